@@ -1,0 +1,17 @@
+#pragma once
+// No rolling resistance: rolling is resisted only through sliding friction at the contacts.
+#include "dem/contact/contact_kinematics.hpp"
+
+namespace grainscale::dem {
+
+struct NoRolling {
+  struct Params {};
+  static Params make(const PairProperties&) { return {}; }
+  static void evaluate(const Params&, const ContactKinematics&, const ContactForce&, ContactHistory&, Vec3& torque_i,
+                       Vec3& torque_j) {
+    torque_i = {};
+    torque_j = {};
+  }
+};
+
+}  // namespace grainscale::dem

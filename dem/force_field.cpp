@@ -1,0 +1,249 @@
+#include "dem/force_field.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace grainscale::dem {
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+template <class Rolling, class MakeRolling>
+auto fill_models(const MaterialTable& mt, MakeRolling make_rolling) {
+  const int n = mt.size();
+  struct Out {
+    int materials;
+    std::vector<HertzMindlin::Params> contact;
+    std::vector<typename Rolling::Params> rolling;
+  } out{n, std::vector<HertzMindlin::Params>(n * n), std::vector<typename Rolling::Params>(n * n)};
+  for (int a = 0; a < n; ++a)
+    for (int b = 0; b < n; ++b) {
+      if (!mt.has_pair(a, b)) continue;  // never used: Simulation::setup checks pairs in use
+      out.contact[a * n + b] = HertzMindlin::make(mt[a], mt[b], mt.pair(a, b));
+      out.rolling[a * n + b] = make_rolling(mt.pair(a, b));
+    }
+  return out;
+}
+
+}  // namespace
+
+void ForceField::setup(const MaterialTable& mt, const std::vector<Wall>& walls, const RollingSettings& rs) {
+  auto assign = [&](auto tag, auto make_rolling) {
+    using Rolling = decltype(tag);
+    auto f = fill_models<Rolling>(mt, make_rolling);
+    Models<Rolling> m;
+    m.materials = f.materials;
+    m.contact = std::move(f.contact);
+    m.rolling = std::move(f.rolling);
+    models_ = std::move(m);
+  };
+  switch (rs.model) {
+    case RollingModel::none:
+      assign(NoRolling{}, [](const PairProperties& p) { return NoRolling::make(p); });
+      break;
+    case RollingModel::constant_torque:
+      assign(ConstantTorqueRolling{}, [](const PairProperties& p) { return ConstantTorqueRolling::make(p); });
+      break;
+    case RollingModel::epsd:
+      assign(EpsdRolling{}, [&](const PairProperties& p) {
+        return EpsdRolling::make(p, rs.epsd_stiffness_factor, rs.epsd_damping_ratio);
+      });
+      break;
+  }
+  wall_material_.clear();
+  for (const Wall& w : walls) wall_material_.push_back(w.material());
+}
+
+ForceDiagnostics ForceField::compute(Particles& p, NeighborList& nl, const std::vector<Wall>& walls,
+                                     const Vec3& gravity, double dt) {
+  return std::visit([&](const auto& m) { return compute_with(m, p, nl, walls, gravity, dt); }, models_);
+}
+
+template <class Rolling>
+ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p, NeighborList& nl,
+                                          const std::vector<Wall>& walls, const Vec3& gravity, double dt) {
+  const std::size_t n = p.size();
+  const std::size_t entries = nl.entries();
+  pair_force_.resize(entries);
+  pair_torque_i_.resize(entries);
+  pair_torque_j_.resize(entries);
+  wall_slots_.resize(n * kWallSlots);
+
+  std::size_t contacts = 0, wall_contacts = 0;
+  double worst_ratio = 0;
+
+  // Pass 1: every pair once.
+#pragma omp parallel for schedule(dynamic, 128) reduction(+ : contacts) reduction(max : worst_ratio)
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec3 xi = p.x[i], vi = p.v[i], wi = p.omega[i];
+    const double ri = p.radius[i];
+    const int mi = p.material[i];
+    for (std::uint32_t k = nl.begin(i); k < nl.end(i); ++k) {
+      const std::uint32_t j = nl.partner(k);
+      const Vec3 d = xi - p.x[j];
+      const double rsum = ri + p.radius[j];
+      const double dist2 = norm2(d);
+      ContactHistory& h = nl.history(k);
+      if (dist2 >= rsum * rsum) {
+        h = {};  // contact broken (or never made): history starts afresh next time
+        pair_force_[k] = pair_torque_i_[k] = pair_torque_j_[k] = {};
+        continue;
+      }
+      ++contacts;
+      const double dist = std::sqrt(dist2);
+      ContactKinematics c;
+      c.n = (1.0 / dist) * d;
+      c.overlap = rsum - dist;
+      c.lever_i = ri - 0.5 * c.overlap;
+      c.lever_j = p.radius[j] - 0.5 * c.overlap;
+      c.omega_i = wi;
+      c.omega_j = p.omega[j];
+      c.v_rel = vi - p.v[j] - cross(c.lever_i * wi + c.lever_j * c.omega_j, c.n);
+      c.r_eff = ri * p.radius[j] / rsum;
+      c.mass_i = p.mass[i];
+      c.mass_j = p.mass[j];
+      c.m_eff = c.mass_i * c.mass_j / (c.mass_i + c.mass_j);
+      c.inertia_i = p.inertia[i];
+      c.inertia_j = p.inertia[j];
+      c.dt = dt;
+      const int pair = mi * m.materials + p.material[j];
+      const ContactForce f = HertzMindlin::evaluate(m.contact[pair], c, h);
+      Vec3 ti, tj;
+      Rolling::evaluate(m.rolling[pair], c, f, h, ti, tj);
+      const Vec3 nxft = cross(c.n, f.tangential);
+      pair_force_[k] = f.force;
+      pair_torque_i_[k] = ti - c.lever_i * nxft;
+      pair_torque_j_[k] = tj - c.lever_j * nxft;
+      worst_ratio = std::max(worst_ratio, c.overlap / std::min(ri, p.radius[j]));
+    }
+  }
+
+  // Pass 2: gather per particle in a fixed order; walls and gravity.
+  std::int64_t bad = std::numeric_limits<std::int64_t>::max();
+  std::int64_t overflow = std::numeric_limits<std::int64_t>::max();
+  double worst_wall = 0;
+#pragma omp parallel for schedule(static) reduction(+ : wall_contacts) reduction(min : bad, overflow) \
+    reduction(max : worst_wall)
+  for (std::size_t i = 0; i < n; ++i) {
+    Vec3 f = p.mass[i] * gravity;
+    Vec3 t{};
+    for (std::uint32_t k = nl.begin(i); k < nl.end(i); ++k) {
+      f += pair_force_[k];
+      t += pair_torque_i_[k];
+    }
+    for (std::uint32_t r = nl.rev_begin(i); r < nl.rev_end(i); ++r) {
+      const std::uint32_t k = nl.rev_entry(r);
+      f -= pair_force_[k];
+      t += pair_torque_j_[k];
+    }
+
+    WallSlot* slots = &wall_slots_[i * kWallSlots];
+    WallSlot fresh[kWallSlots];
+    int used = 0;
+    const Vec3 xi = p.x[i], vi = p.v[i], wi = p.omega[i];
+    const double ri = p.radius[i];
+    for (std::size_t w = 0; w < walls.size(); ++w) {
+      WallContact wc[kWallSlots + 1];
+      const int found = walls[w].contacts(xi, ri, wc, kWallSlots + 1);
+      for (int q = 0; q < found; ++q) {
+        if (used == kWallSlots) {
+          overflow = std::min<std::int64_t>(overflow, static_cast<std::int64_t>(i));
+          break;
+        }
+        WallSlot s{static_cast<std::int32_t>(w), wc[q].feature, {}};
+        for (int o = 0; o < kWallSlots && slots[o].wall >= 0; ++o) {
+          if (slots[o].wall == s.wall && slots[o].feature == s.feature) s.history = slots[o].history;
+        }
+        const WallPose& pose = walls[w].pose();
+        ContactKinematics c;
+        c.n = wc[q].normal;
+        c.overlap = wc[q].overlap;
+        c.lever_i = ri - c.overlap;
+        c.lever_j = 0;
+        c.omega_i = wi;
+        c.omega_j = pose.angular_velocity;
+        c.v_rel = vi - c.lever_i * cross(wi, c.n) - pose.surface_velocity(wc[q].point);
+        c.r_eff = ri;
+        c.mass_i = c.m_eff = p.mass[i];
+        c.mass_j = kInf;
+        c.inertia_i = p.inertia[i];
+        c.inertia_j = kInf;
+        c.dt = dt;
+        const int pair = p.material[i] * m.materials + wall_material_[w];
+        const ContactForce cf = HertzMindlin::evaluate(m.contact[pair], c, s.history);
+        Vec3 ti, tj;
+        Rolling::evaluate(m.rolling[pair], c, cf, s.history, ti, tj);
+        f += cf.force;
+        t += ti - c.lever_i * cross(c.n, cf.tangential);
+        fresh[used++] = s;
+        worst_wall = std::max(worst_wall, c.overlap / ri);
+      }
+    }
+    wall_contacts += static_cast<std::size_t>(used);
+    for (int o = 0; o < kWallSlots; ++o) slots[o] = o < used ? fresh[o] : WallSlot{};
+
+    p.force[i] = f;
+    p.torque[i] = t;
+    if (!is_finite(f) || !is_finite(t)) bad = std::min<std::int64_t>(bad, static_cast<std::int64_t>(i));
+  }
+
+  ForceDiagnostics d;
+  d.contacts = contacts;
+  d.wall_contacts = wall_contacts;
+  d.max_overlap_ratio = std::max(worst_ratio, worst_wall);
+  d.bad_slot = bad == std::numeric_limits<std::int64_t>::max() ? -1 : bad;
+  d.slot_overflow = overflow == std::numeric_limits<std::int64_t>::max() ? -1 : overflow;
+  return d;
+}
+
+void ForceField::permute(const std::vector<std::uint32_t>& new_to_old) {
+  const std::size_t n = new_to_old.size();
+  wall_scratch_.resize(n * kWallSlots);
+#pragma omp parallel for schedule(static)
+  for (std::size_t i = 0; i < n; ++i)
+    for (int s = 0; s < kWallSlots; ++s) wall_scratch_[i * kWallSlots + s] = wall_slots_[new_to_old[i] * kWallSlots + s];
+  wall_slots_.swap(wall_scratch_);
+}
+
+ContactEnergy ForceField::contact_energy(const Particles& p, const NeighborList& nl,
+                                         const std::vector<Wall>& walls) const {
+  ContactEnergy e;
+  const int nm = std::visit([](const auto& m) { return m.materials; }, models_);
+  const auto& contact = std::visit([](const auto& m) -> const std::vector<HertzMindlin::Params>& { return m.contact; },
+                                   models_);
+  auto add = [&](const HertzMindlin::Params& hp, double r_eff, double overlap, const ContactHistory& h) {
+    e.normal += HertzMindlin::normal_energy(hp, r_eff, overlap);
+    e.tangential += 0.5 * 8.0 * hp.g_eff * std::sqrt(r_eff * overlap) * norm2(h.shear);
+  };
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    for (std::uint32_t k = nl.begin(i); k < nl.end(i); ++k) {
+      const std::uint32_t j = nl.partner(k);
+      const double overlap = p.radius[i] + p.radius[j] - norm(p.x[i] - p.x[j]);
+      if (overlap <= 0) continue;
+      add(contact[p.material[i] * nm + p.material[j]], p.radius[i] * p.radius[j] / (p.radius[i] + p.radius[j]), overlap,
+          nl.history(k));
+    }
+    for (std::size_t w = 0; w < walls.size(); ++w) {
+      WallContact wc[kWallSlots];
+      const int found = walls[w].contacts(p.x[i], p.radius[i], wc, kWallSlots);
+      for (int q = 0; q < found; ++q) {
+        ContactHistory h{};
+        for (int s = 0; s < kWallSlots; ++s) {
+          const WallSlot& ws = wall_slots_[i * kWallSlots + s];
+          if (ws.wall == static_cast<int>(w) && ws.feature == wc[q].feature) h = ws.history;
+        }
+        add(contact[p.material[i] * nm + wall_material_[w]], p.radius[i], wc[q].overlap, h);
+      }
+    }
+  }
+  return e;
+}
+
+std::size_t ForceField::bytes() const {
+  return (pair_force_.capacity() + pair_torque_i_.capacity() + pair_torque_j_.capacity()) * sizeof(Vec3) +
+         (wall_slots_.capacity() + wall_scratch_.capacity()) * sizeof(WallSlot);
+}
+
+}  // namespace grainscale::dem

@@ -1,0 +1,84 @@
+#pragma once
+// Computes all forces and torques for one step: particle pairs from the neighbour list, particle-wall
+// contacts and gravity. The loop is written once (force_field.cpp) and instantiated for each
+// contact/rolling model pair; models are small evaluator structs in dem/contact/.
+//
+// Pass 1 runs over neighbour-list entries (owner slot in parallel) and writes one record per entry;
+// pass 2 runs over particles and sums, in a fixed order, the records that involve the particle, its
+// wall contacts and gravity. No two threads write the same memory, so results are bitwise identical
+// for any thread count.
+#include <cstdint>
+#include <variant>
+#include <vector>
+
+#include "dem/contact/hertz_mindlin.hpp"
+#include "dem/contact/rolling_constant_torque.hpp"
+#include "dem/contact/rolling_epsd.hpp"
+#include "dem/contact/rolling_none.hpp"
+#include "dem/material.hpp"
+#include "dem/neighbor_list.hpp"
+#include "dem/particles.hpp"
+#include "dem/rolling_model.hpp"
+#include "dem/wall.hpp"
+
+namespace grainscale::dem {
+
+/// Worst state seen while computing forces; used by the blow-up check.
+struct ForceDiagnostics {
+  double max_overlap_ratio = 0;  // max over contacts of overlap / smaller radius
+  std::int64_t worst_slot = -1;  // particle slot with that overlap
+  std::int64_t bad_slot = -1;    // first slot with a non-finite force or torque, or -1
+  std::int64_t slot_overflow = -1;  // first slot with more wall contacts than kWallSlots
+  std::size_t contacts = 0;      // particle-particle contacts in force
+  std::size_t wall_contacts = 0;
+};
+
+/// Tangential history of one particle-wall contact, keyed by (wall, feature).
+struct WallSlot {
+  std::int32_t wall = -1;
+  std::int32_t feature = 0;
+  ContactHistory history;
+};
+
+struct ContactEnergy {
+  double normal = 0;      // elastic energy in normal springs, J
+  double tangential = 0;  // 1/2 S_t |s|^2 summed (approximate: Mindlin stiffness varies), J
+};
+
+/// Contact and rolling parameters for every material pair, [a * materials + b].
+template <class Rolling>
+struct ContactModels {
+  int materials = 0;
+  std::vector<HertzMindlin::Params> contact;
+  std::vector<typename Rolling::Params> rolling;
+};
+
+class ForceField {
+ public:
+  static constexpr int kWallSlots = 8;
+
+  void setup(const MaterialTable& materials, const std::vector<Wall>& walls, const RollingSettings& rolling);
+  ForceDiagnostics compute(Particles& p, NeighborList& nl, const std::vector<Wall>& walls, const Vec3& gravity,
+                           double dt);
+  /// Renumber the per-particle wall histories with the particles.
+  void permute(const std::vector<std::uint32_t>& new_to_old);
+  void resize(std::size_t n) { wall_slots_.resize(n * kWallSlots); }
+  ContactEnergy contact_energy(const Particles& p, const NeighborList& nl, const std::vector<Wall>& walls) const;
+  std::size_t bytes() const;
+
+ private:
+  template <class Rolling>
+  using Models = ContactModels<Rolling>;
+  using AnyModels = std::variant<Models<NoRolling>, Models<ConstantTorqueRolling>, Models<EpsdRolling>>;
+
+  template <class Rolling>
+  ForceDiagnostics compute_with(const Models<Rolling>& m, Particles& p, NeighborList& nl, const std::vector<Wall>& walls,
+                                const Vec3& gravity, double dt);
+
+  AnyModels models_;
+  std::vector<int> wall_material_;
+  std::vector<Vec3> pair_force_, pair_torque_i_, pair_torque_j_;
+  std::vector<WallSlot> wall_slots_, wall_scratch_;
+};
+
+}  // namespace grainscale::dem

@@ -1,0 +1,146 @@
+#include "dem/neighbor_list.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace grainscale::dem {
+
+int NeighborList::cell_of(const Vec3& x) const {
+  const int ix = std::clamp(static_cast<int>((x.x - origin_.x) / cell_), 0, nx_ - 1);
+  const int iy = std::clamp(static_cast<int>((x.y - origin_.y) / cell_), 0, ny_ - 1);
+  const int iz = std::clamp(static_cast<int>((x.z - origin_.z) / cell_), 0, nz_ - 1);
+  return (iz * ny_ + iy) * nx_ + ix;
+}
+
+const std::vector<std::uint32_t>& NeighborList::sort_by_cell(const Particles& p, double skin) {
+  const std::size_t n = p.size();
+  double lo_x = std::numeric_limits<double>::infinity(), lo_y = lo_x, lo_z = lo_x;
+  double hi_x = -lo_x, hi_y = -lo_x, hi_z = -lo_x, r_max = 0;
+#pragma omp parallel for reduction(min : lo_x, lo_y, lo_z) reduction(max : hi_x, hi_y, hi_z, r_max)
+  for (std::size_t i = 0; i < n; ++i) {
+    lo_x = std::min(lo_x, p.x[i].x), lo_y = std::min(lo_y, p.x[i].y), lo_z = std::min(lo_z, p.x[i].z);
+    hi_x = std::max(hi_x, p.x[i].x), hi_y = std::max(hi_y, p.x[i].y), hi_z = std::max(hi_z, p.x[i].z);
+    r_max = std::max(r_max, p.radius[i]);
+  }
+  if (n == 0) lo_x = lo_y = lo_z = hi_x = hi_y = hi_z = 0;
+
+  // Cells at least one interaction range wide; if a stray particle stretches the box, widen the cells
+  // rather than allocate a huge grid (the particle count bounds the grid size).
+  cell_ = std::max(2.0 * r_max + skin, 1e-12);
+  const double max_cells = std::max<double>(64.0, 8.0 * static_cast<double>(n));
+  for (;;) {
+    nx_ = static_cast<int>((hi_x - lo_x) / cell_) + 1;
+    ny_ = static_cast<int>((hi_y - lo_y) / cell_) + 1;
+    nz_ = static_cast<int>((hi_z - lo_z) / cell_) + 1;
+    if (static_cast<double>(nx_) * ny_ * nz_ <= max_cells) break;
+    cell_ *= 1.5;
+  }
+  origin_ = {lo_x, lo_y, lo_z};
+  const std::size_t cells = static_cast<std::size_t>(nx_) * ny_ * nz_;
+
+  cell_index_.resize(n);
+#pragma omp parallel for schedule(static)
+  for (std::size_t i = 0; i < n; ++i) cell_index_[i] = cell_of(p.x[i]);
+
+  // Stable counting sort by cell.
+  cell_start_.assign(cells + 1, 0);
+  for (std::size_t i = 0; i < n; ++i) ++cell_start_[cell_index_[i] + 1];
+  for (std::size_t c = 0; c < cells; ++c) cell_start_[c + 1] += cell_start_[c];
+  rev_fill_.assign(cell_start_.begin(), cell_start_.end() - 1);
+  order_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) order_[rev_fill_[cell_index_[i]]++] = static_cast<std::uint32_t>(i);
+  return order_;
+}
+
+void NeighborList::build(Particles& p, double skin, const std::vector<std::uint32_t>& new_to_old) {
+  const std::size_t n = p.size();
+  skin_ = skin;
+  start_.swap(old_start_);
+  partner_.swap(old_partner_);
+  history_.swap(old_history_);
+  const bool carry = old_start_.size() == n + 1;
+
+  auto for_each_candidate = [&](std::size_t i, auto&& visit) {
+    const Vec3 xi = p.x[i];
+    const int c = cell_of(xi);
+    const int ix = c % nx_, iy = (c / nx_) % ny_, iz = c / (nx_ * ny_);
+    for (int z = std::max(iz - 1, 0); z <= std::min(iz + 1, nz_ - 1); ++z)
+      for (int y = std::max(iy - 1, 0); y <= std::min(iy + 1, ny_ - 1); ++y) {
+        // The cells of one row x-1..x+1 are contiguous in slot order: one loop covers them.
+        const int row = (z * ny_ + y) * nx_;
+        const std::uint32_t j0 = cell_start_[row + std::max(ix - 1, 0)];
+        const std::uint32_t j1 = cell_start_[row + std::min(ix + 1, nx_ - 1) + 1];
+        for (std::uint32_t j = j0; j < j1; ++j) {
+          if (p.id[j] <= p.id[i]) continue;
+          const double cut = p.radius[i] + p.radius[j] + skin;
+          if (norm2(p.x[j] - xi) < cut * cut) visit(j);
+        }
+      }
+  };
+
+  count_.resize(n);
+#pragma omp parallel for schedule(dynamic, 256)
+  for (std::size_t i = 0; i < n; ++i) {
+    std::uint32_t c = 0;
+    for_each_candidate(i, [&](std::uint32_t) { ++c; });
+    count_[i] = c;
+  }
+  start_.resize(n + 1);
+  start_[0] = 0;
+  for (std::size_t i = 0; i < n; ++i) start_[i + 1] = start_[i] + count_[i];
+  partner_.resize(start_[n]);
+  history_.resize(start_[n]);
+
+#pragma omp parallel for schedule(dynamic, 256)
+  for (std::size_t i = 0; i < n; ++i) {
+    std::uint32_t k = start_[i];
+    const std::uint32_t oi = carry ? new_to_old[i] : 0;
+    for_each_candidate(i, [&](std::uint32_t j) {
+      partner_[k] = j;
+      history_[k] = {};
+      if (carry) {
+        const std::uint32_t oj = new_to_old[j];
+        for (std::uint32_t m = old_start_[oi]; m < old_start_[oi + 1]; ++m) {
+          if (old_partner_[m] == oj) {
+            history_[k] = old_history_[m];
+            break;
+          }
+        }
+      }
+      ++k;
+    });
+  }
+
+  // Reverse index, filled in entry order so the gather order is fixed.
+  rev_start_.assign(n + 1, 0);
+  for (std::uint32_t k = 0; k < partner_.size(); ++k) ++rev_start_[partner_[k] + 1];
+  for (std::size_t i = 0; i < n; ++i) rev_start_[i + 1] += rev_start_[i];
+  rev_fill_.assign(rev_start_.begin(), rev_start_.end() - 1);
+  rev_entry_.resize(partner_.size());
+  for (std::uint32_t k = 0; k < partner_.size(); ++k) rev_entry_[rev_fill_[partner_[k]]++] = k;
+
+#pragma omp parallel for schedule(static)
+  for (std::size_t i = 0; i < n; ++i) p.x_at_build[i] = p.x[i];
+  ++builds_;
+}
+
+bool NeighborList::needs_rebuild(const Particles& p) const {
+  if (start_.size() != p.size() + 1) return true;
+  const double limit2 = 0.25 * skin_ * skin_;
+  const std::size_t n = p.size();
+  double worst = 0;
+#pragma omp parallel for reduction(max : worst) schedule(static)
+  for (std::size_t i = 0; i < n; ++i) worst = std::max(worst, norm2(p.x[i] - p.x_at_build[i]));
+  return worst > limit2;
+}
+
+std::size_t NeighborList::bytes() const {
+  return cell_start_.capacity() * 4 + cell_index_.capacity() * 4 + order_.capacity() * 4 +
+         (start_.capacity() + partner_.capacity() + count_.capacity() + old_start_.capacity() +
+          old_partner_.capacity() + rev_start_.capacity() + rev_entry_.capacity() + rev_fill_.capacity()) *
+             4 +
+         (history_.capacity() + old_history_.capacity()) * sizeof(ContactHistory);
+}
+
+}  // namespace grainscale::dem

@@ -1,0 +1,67 @@
+#pragma once
+// Cell list with a Verlet skin (Allen & Tildesley 2017, Sec. 5.3-5.4).
+//
+// * Particles are binned in cubic cells of edge >= 2 r_max + skin and renumbered in cell order,
+//   so that particles close in space are close in memory (Morton-like locality per cell row).
+// * The list is a half list stored as CSR: pair {a, b} is stored once, under the particle with the
+//   smaller id, if |x_a - x_b| < r_a + r_b + skin. Keying ownership on id (not slot) means a pair
+//   keeps its owner and the sign of its history across renumbering.
+// * It stays valid until some particle has moved more than skin/2 since the build.
+// * Each entry carries the contact history; a rebuild carries histories over to the new entries.
+// * A reverse CSR lists, for every particle, the entries where it is the partner, so forces can be
+//   gathered per particle in a fixed order: deterministic for any thread count, no atomics.
+#include <cstdint>
+#include <vector>
+
+#include "dem/contact/contact_kinematics.hpp"
+#include "dem/particles.hpp"
+
+namespace grainscale::dem {
+
+class NeighborList {
+ public:
+  /// New slot order (new_to_old) sorting particles by cell. Also prepares the cell grid for build().
+  const std::vector<std::uint32_t>& sort_by_cell(const Particles& p, double skin);
+
+  /// Build the list for particles already renumbered by sort_by_cell()'s order; `new_to_old` maps the
+  /// new slots to the slots of the previous build so histories can be carried over.
+  void build(Particles& p, double skin, const std::vector<std::uint32_t>& new_to_old);
+
+  /// True once some particle has moved more than skin/2 since the last build.
+  bool needs_rebuild(const Particles& p) const;
+
+  std::uint32_t begin(std::size_t i) const { return start_[i]; }
+  std::uint32_t end(std::size_t i) const { return start_[i + 1]; }
+  std::uint32_t rev_begin(std::size_t i) const { return rev_start_[i]; }
+  std::uint32_t rev_end(std::size_t i) const { return rev_start_[i + 1]; }
+  std::uint32_t rev_entry(std::uint32_t k) const { return rev_entry_[k]; }
+  std::uint32_t partner(std::uint32_t k) const { return partner_[k]; }
+  ContactHistory& history(std::uint32_t k) { return history_[k]; }
+  const ContactHistory& history(std::uint32_t k) const { return history_[k]; }
+  std::size_t entries() const { return partner_.size(); }
+  std::size_t builds() const { return builds_; }
+  double skin() const { return skin_; }
+  /// Bytes held by the list (for memory reports).
+  std::size_t bytes() const;
+
+ private:
+  int cell_of(const Vec3& x) const;
+
+  // Cell grid of the current build.
+  Vec3 origin_;
+  double cell_ = 0;
+  int nx_ = 0, ny_ = 0, nz_ = 0;
+  std::vector<std::uint32_t> cell_start_;  // particles of cell c are slots [cell_start_[c], cell_start_[c+1])
+  std::vector<int> cell_index_;            // per old slot, during sort
+  std::vector<std::uint32_t> order_;       // new_to_old
+
+  std::vector<std::uint32_t> start_, partner_, count_;
+  std::vector<ContactHistory> history_;
+  std::vector<std::uint32_t> old_start_, old_partner_;
+  std::vector<ContactHistory> old_history_;
+  std::vector<std::uint32_t> rev_start_, rev_entry_, rev_fill_;
+  double skin_ = 0;
+  std::size_t builds_ = 0;
+};
+
+}  // namespace grainscale::dem

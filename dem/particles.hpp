@@ -1,0 +1,55 @@
+#pragma once
+// Particle state as a structure of arrays: each field is one contiguous array indexed by the
+// particle's current slot. Slots are renumbered (permute) when the neighbour list reorders particles
+// for cache locality; `id` is the permanent identity that output and contact histories use.
+#include <cstdint>
+#include <vector>
+
+#include "dem/quaternion.hpp"
+#include "dem/vec3.hpp"
+
+namespace grainscale::dem {
+
+struct Particles {
+  std::vector<std::uint64_t> id;
+  std::vector<std::int32_t> material;
+  std::vector<double> radius;
+  std::vector<double> mass, inv_mass;
+  std::vector<double> inertia, inv_inertia;  // sphere: I = 2/5 m r^2
+  std::vector<Vec3> x, v, omega;             // position, velocity, angular velocity (world frame)
+  std::vector<Vec3> force, torque;           // accumulated by the force field each step
+  std::vector<Quat> q;                       // orientation (body -> world)
+  std::vector<Vec3> x_at_build;              // positions when the neighbour list was built
+
+  std::size_t size() const { return id.size(); }
+
+  /// Append a solid sphere; returns its slot.
+  std::size_t add_sphere(std::uint64_t pid, int mat, double r, double density, const Vec3& pos, const Vec3& vel = {},
+                         const Vec3& ang_vel = {});
+
+  /// Reorder every array so that new slot i holds what old slot new_to_old[i] held.
+  /// Allocation-free once the scratch buffers have reached the particle count.
+  void permute(const std::vector<std::uint32_t>& new_to_old);
+
+  /// Slot of the particle with this id (linear search; for tests and diagnostics).
+  std::size_t slot_of(std::uint64_t pid) const;
+
+ private:
+  std::vector<double> scratch_d_;
+  std::vector<Vec3> scratch_v_;
+  std::vector<Quat> scratch_q_;
+  std::vector<std::uint64_t> scratch_u_;
+  std::vector<std::int32_t> scratch_i_;
+};
+
+/// Apply `new_to_old` to one array through a scratch buffer (swap keeps both capacities).
+template <class T>
+void permute_array(std::vector<T>& a, std::vector<T>& scratch, const std::vector<std::uint32_t>& new_to_old) {
+  scratch.resize(a.size());
+  const std::size_t n = a.size();
+#pragma omp parallel for schedule(static)
+  for (std::size_t i = 0; i < n; ++i) scratch[i] = a[new_to_old[i]];
+  a.swap(scratch);
+}
+
+}  // namespace grainscale::dem

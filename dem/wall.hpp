@@ -1,0 +1,83 @@
+#pragma once
+// A wall is a geometry plus a pose (and later a motion): the geometry answers "which of my features
+// touch this sphere?" in its own body frame, the pose carries points and velocities between body and
+// world frames. Meshes and moving containers (issue 4) plug in here: a new geometry is one class
+// implementing WallGeometry; a motion profile updates the pose each step.
+#include <memory>
+#include <string>
+
+#include "dem/quaternion.hpp"
+#include "dem/vec3.hpp"
+
+namespace grainscale::dem {
+
+/// One feature of a wall geometry near a sphere, in the geometry's body frame.
+struct WallHit {
+  Vec3 normal;          // unit vector from the wall surface towards the sphere centre
+  double distance = 0;  // distance from the surface to the sphere centre (contact if < radius)
+  int feature = 0;      // stable id of the face/edge/vertex, keys the tangential history
+};
+
+class WallGeometry {
+ public:
+  virtual ~WallGeometry() = default;
+  /// Append to `hits` (capacity `cap`) every feature whose distance to `p` is below `reach`;
+  /// return how many were written. Must not double-count a contact shared by adjacent features.
+  virtual int nearby(const Vec3& p, double reach, WallHit* hits, int cap) const = 0;
+  /// Axis-aligned bounds in the body frame (used for domain checks and output).
+  virtual void bounds(Vec3& lo, Vec3& hi) const = 0;
+  virtual std::string describe() const = 0;
+};
+
+/// Where the wall is and how its frame moves: x_world = origin + R(q) x_body; the surface velocity at
+/// a world point p is velocity + angular_velocity x (p - origin).
+struct WallPose {
+  Vec3 origin;
+  Quat orientation;
+  Vec3 velocity;
+  Vec3 angular_velocity;
+
+  Vec3 to_body(const Vec3& p) const { return rotate(conjugate(orientation), p - origin); }
+  Vec3 direction_to_world(const Vec3& d) const { return rotate(orientation, d); }
+  Vec3 surface_velocity(const Vec3& p) const { return velocity + cross(angular_velocity, p - origin); }
+};
+
+/// A wall contact in world coordinates.
+struct WallContact {
+  Vec3 normal;          // from wall to sphere centre
+  double overlap = 0;   // radius - distance > 0
+  Vec3 point;           // contact point on the wall surface
+  int feature = 0;
+};
+
+class Wall {
+ public:
+  Wall(std::string name, std::shared_ptr<const WallGeometry> geometry, int material, WallPose pose = {})
+      : name_(std::move(name)), geometry_(std::move(geometry)), material_(material), pose_(pose) {}
+
+  /// Contacts of a sphere (centre c, radius r) with this wall; returns the count written to `out`.
+  int contacts(const Vec3& c, double r, WallContact* out, int cap) const {
+    constexpr int kMaxHits = 16;
+    WallHit hits[kMaxHits];
+    const int n = geometry_->nearby(pose_.to_body(c), r, hits, cap < kMaxHits ? cap : kMaxHits);
+    for (int k = 0; k < n; ++k) {
+      const Vec3 nw = pose_.direction_to_world(hits[k].normal);
+      out[k] = {nw, r - hits[k].distance, c - hits[k].distance * nw, hits[k].feature};
+    }
+    return n;
+  }
+
+  const std::string& name() const { return name_; }
+  const WallGeometry& geometry() const { return *geometry_; }
+  int material() const { return material_; }
+  const WallPose& pose() const { return pose_; }
+  void set_pose(const WallPose& p) { pose_ = p; }
+
+ private:
+  std::string name_;
+  std::shared_ptr<const WallGeometry> geometry_;
+  int material_;
+  WallPose pose_;
+};
+
+}  // namespace grainscale::dem
