@@ -2,7 +2,7 @@
 // Constant directional torque (CDT) rolling resistance, EDEM's "standard rolling friction" model
 // (Ai et al. 2011, model type A; EDEM Creator documentation):
 //
-//   tau_i = -mu_r |F_n| R_i omega_i / |omega_i|
+//   tau_i = -mu_r F_n+ R_i omega_i / |omega_i|
 //
 // with R_i the distance from i's centre to the contact point and omega_i i's own angular velocity;
 // likewise for j. Table 1 of the source report was calibrated in EDEM with exactly this model, so its
@@ -28,7 +28,7 @@ struct ConstantTorqueRolling {
   static Vec3 resist(double mu_r, double f_n, double lever, const Vec3& omega, double inertia, double dt) {
     const double w = norm(omega);
     if (w == 0 || !std::isfinite(inertia)) return {};
-    const double tau = std::min(mu_r * std::abs(f_n) * lever, inertia * w / dt);
+    const double tau = std::min(mu_r * std::max(f_n, 0.0) * lever, inertia * w / dt);
     return (-tau / w) * omega;
   }
 

@@ -3,7 +3,7 @@
 // Technology 206:269, model type C (EDEM "Type C", LIGGGHTS "epsd2"):
 //
 //   relative rolling    omega_r = (omega_i - omega_j) projected on the tangent plane
-//   spring (eq. 13)     M_k += -k_r omega_r dt,   |M_k| <= M_m = mu_r R_r |F_n|   (full mobilisation)
+//   spring (eq. 13)     M_k += -k_r omega_r dt,   |M_k| <= M_m = mu_r R_r F_n+   (full mobilisation)
 //   stiffness (eq. 15)  k_r = k_stiff * k_n * mu_r^2 * R_r^2,   k_stiff = 2.25 (Ai et al.), R_r = R*
 //   damper (eq. 16-18)  M_d = -C_r omega_r while |M_k| < M_m, 0 once fully mobilised (f = 0),
 //                       C_r = 2 eta_r sqrt(I_r k_r),  1/I_r = 1/(I_i + m_i r_i^2) + 1/(I_j + m_j r_j^2)
@@ -33,7 +33,7 @@ struct EpsdRolling {
     const Vec3 w = c.omega_i - c.omega_j;
     const Vec3 w_r = w - dot(w, c.n) * c.n;
     const double k_r = p.stiffness_factor * f.stiffness * p.mu_r * p.mu_r * c.r_eff * c.r_eff;
-    const double m_max = p.mu_r * c.r_eff * std::abs(f.normal);
+    const double m_max = p.mu_r * c.r_eff * std::max(f.normal, 0.0);
 
     project_to_tangent_plane(h.rolling, c.n);
     h.rolling += (-k_r * c.dt) * w_r;
