@@ -1,0 +1,118 @@
+// The cell/Verlet neighbour list against a brute-force O(N^2) search (after Cabana's
+// neighbor_unit_test), on 1, 2 and 4 threads, across reordering rebuilds; and the carry-over of
+// contact histories to the renumbered list.
+#include <omp.h>
+
+#include <catch2/catch.hpp>
+#include <random>
+#include <set>
+#include <utility>
+
+#include "dem/neighbor_list.hpp"
+
+using namespace grainscale::dem;
+
+namespace {
+
+using PairSet = std::set<std::pair<std::uint64_t, std::uint64_t>>;
+
+Particles random_particles(std::size_t n, double box, unsigned seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(0, 1);
+  Particles p;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double r = 0.002 + 0.004 * u(rng);  // polydisperse, 3:1 size ratio
+    p.add_sphere(i, 0, r, 1000, {box * u(rng), box * u(rng), 0.3 * box * u(rng)});
+  }
+  return p;
+}
+
+PairSet brute_force(const Particles& p, double skin) {
+  PairSet s;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    for (std::size_t j = i + 1; j < p.size(); ++j) {
+      const double cut = p.radius[i] + p.radius[j] + skin;
+      if (norm2(p.x[i] - p.x[j]) < cut * cut) s.insert(std::minmax(p.id[i], p.id[j]));
+    }
+  return s;
+}
+
+PairSet listed(const Particles& p, const NeighborList& nl) {
+  PairSet s;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    for (auto k = nl.begin(i); k < nl.end(i); ++k) {
+      const auto pair = std::minmax(p.id[i], p.id[nl.partner(k)]);
+      REQUIRE(s.insert(pair).second);  // each pair exactly once
+      REQUIRE(p.id[i] < p.id[nl.partner(k)]);  // stored under the smaller id
+    }
+  return s;
+}
+
+void rebuild(Particles& p, NeighborList& nl, double skin) {
+  const auto order = nl.sort_by_cell(p, skin);
+  p.permute(order);
+  nl.build(p, skin, order);
+}
+
+}  // namespace
+
+TEST_CASE("Neighbour list equals the brute-force pair list", "[dem][neighbor]") {
+  const int threads = GENERATE(1, 2, 4);
+  omp_set_num_threads(threads);
+  const double skin = 0.001;
+  Particles p = random_particles(2000, 0.15, 3);
+  NeighborList nl;
+  rebuild(p, nl, skin);
+  CHECK(listed(p, nl) == brute_force(p, skin));
+
+  // The reverse index lists every entry exactly once, under its partner.
+  std::size_t seen = 0;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    for (auto r = nl.rev_begin(i); r < nl.rev_end(i); ++r) {
+      CHECK(nl.partner(nl.rev_entry(r)) == i);
+      ++seen;
+    }
+  CHECK(seen == nl.entries());
+
+  // Move everything a little, rebuild (reordering the slots), compare again.
+  std::mt19937_64 rng(5);
+  std::normal_distribution<double> jitter(0, 0.002);
+  for (auto& x : p.x) x += Vec3{jitter(rng), jitter(rng), jitter(rng)};
+  rebuild(p, nl, skin);
+  CHECK(listed(p, nl) == brute_force(p, skin));
+  omp_set_num_threads(2);
+}
+
+TEST_CASE("Contact histories follow their pair through reordering rebuilds", "[dem][neighbor]") {
+  const double skin = 0.001;
+  Particles p = random_particles(1500, 0.12, 9);
+  NeighborList nl;
+  rebuild(p, nl, skin);
+  // Tag every history with its pair of ids.
+  for (std::size_t i = 0; i < p.size(); ++i)
+    for (auto k = nl.begin(i); k < nl.end(i); ++k)
+      nl.history(k).shear = {static_cast<double>(p.id[i]), static_cast<double>(p.id[nl.partner(k)]), 1.0};
+
+  std::mt19937_64 rng(1);
+  std::normal_distribution<double> jitter(0, 0.0003);
+  for (auto& x : p.x) x += Vec3{jitter(rng), jitter(rng), jitter(rng)};
+  const PairSet before = listed(p, nl);
+  rebuild(p, nl, skin);
+
+  std::size_t carried = 0, fresh = 0;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    for (auto k = nl.begin(i); k < nl.end(i); ++k) {
+      const auto pair = std::minmax(p.id[i], p.id[nl.partner(k)]);
+      const ContactHistory& h = nl.history(k);
+      if (before.count(pair)) {
+        CHECK(h.shear.x == static_cast<double>(p.id[i]));
+        CHECK(h.shear.y == static_cast<double>(p.id[nl.partner(k)]));
+        ++carried;
+      } else {
+        CHECK(h.shear.z == 0.0);  // a new pair starts without history
+        ++fresh;
+      }
+    }
+  CHECK(carried > 1000);
+  CHECK(fresh > 0);
+}
