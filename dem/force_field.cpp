@@ -69,7 +69,7 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
   pair_force_.resize(entries);
   pair_torque_i_.resize(entries);
   pair_torque_j_.resize(entries);
-  wall_slots_.resize(n * kWallSlots);
+  resize(n);
 
   std::size_t contacts = 0, wall_contacts = 0;
   double worst_ratio = 0;
@@ -139,22 +139,25 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
       t += pair_torque_j_[k];
     }
 
+    // Wall contacts; histories found by (wall, feature) among last step's contacts of this particle.
     WallSlot* slots = &wall_slots_[i * kWallSlots];
-    WallSlot fresh[kWallSlots];
+    const int previous = wall_count_[i];
+    UninitializedArray<WallSlot, kWallSlots> old;
+    for (int o = 0; o < previous; ++o) old[o] = slots[o];
     int used = 0;
     const Vec3 xi = p.x[i], vi = p.v[i], wi = p.omega[i];
     const double ri = p.radius[i];
     for (std::size_t w = 0; w < walls.size(); ++w) {
-      WallContact wc[kWallSlots + 1];
-      const int found = walls[w].contacts(xi, ri, wc, kWallSlots + 1);
+      UninitializedArray<WallContact, kWallSlots + 1> wc;
+      const int found = walls[w].contacts(xi, ri, wc.data(), kWallSlots + 1);
       for (int q = 0; q < found; ++q) {
         if (used == kWallSlots) {
           overflow = std::min<std::int64_t>(overflow, static_cast<std::int64_t>(i));
           break;
         }
         WallSlot s{static_cast<std::int32_t>(w), wc[q].feature, {}};
-        for (int o = 0; o < kWallSlots && slots[o].wall >= 0; ++o) {
-          if (slots[o].wall == s.wall && slots[o].feature == s.feature) s.history = slots[o].history;
+        for (int o = 0; o < previous; ++o) {
+          if (old[o].wall == s.wall && old[o].feature == s.feature) s.history = old[o].history;
         }
         const WallPose& pose = walls[w].pose();
         ContactKinematics c;
@@ -177,12 +180,12 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
         Rolling::evaluate(m.rolling[pair], c, cf, s.history, ti, tj);
         f += cf.force;
         t += ti - c.lever_i * cross(c.n, cf.tangential);
-        fresh[used++] = s;
+        slots[used++] = s;
         worst_wall = std::max(worst_wall, c.overlap / ri);
       }
     }
     wall_contacts += static_cast<std::size_t>(used);
-    for (int o = 0; o < kWallSlots; ++o) slots[o] = o < used ? fresh[o] : WallSlot{};
+    wall_count_[i] = static_cast<std::uint8_t>(used);
 
     p.force[i] = f;
     p.torque[i] = t;
@@ -205,6 +208,7 @@ void ForceField::permute(const std::vector<std::uint32_t>& new_to_old) {
   for (std::size_t i = 0; i < n; ++i)
     for (int s = 0; s < kWallSlots; ++s) wall_scratch_[i * kWallSlots + s] = wall_slots_[new_to_old[i] * kWallSlots + s];
   wall_slots_.swap(wall_scratch_);
+  permute_array(wall_count_, count_scratch_, new_to_old);
 }
 
 ContactEnergy ForceField::contact_energy(const Particles& p, const NeighborList& nl,
@@ -227,10 +231,10 @@ ContactEnergy ForceField::contact_energy(const Particles& p, const NeighborList&
     }
     for (std::size_t w = 0; w < walls.size(); ++w) {
       WallContact wc[kWallSlots];
-      const int found = walls[w].contacts(p.x[i], p.radius[i], wc, kWallSlots);
+      const int found = walls[w].contacts(p.x[i], p.radius[i], wc, kWallSlots);  // diagnostics: not hot
       for (int q = 0; q < found; ++q) {
         ContactHistory h{};
-        for (int s = 0; s < kWallSlots; ++s) {
+        for (int s = 0; s < wall_count_[i]; ++s) {
           const WallSlot& ws = wall_slots_[i * kWallSlots + s];
           if (ws.wall == static_cast<int>(w) && ws.feature == wc[q].feature) h = ws.history;
         }

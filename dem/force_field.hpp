@@ -19,6 +19,7 @@
 #include "dem/neighbor_list.hpp"
 #include "dem/particles.hpp"
 #include "dem/rolling_model.hpp"
+#include "dem/uninitialized_array.hpp"
 #include "dem/wall.hpp"
 
 namespace grainscale::dem {
@@ -62,7 +63,10 @@ class ForceField {
                            double dt);
   /// Renumber the per-particle wall histories with the particles.
   void permute(const std::vector<std::uint32_t>& new_to_old);
-  void resize(std::size_t n) { wall_slots_.resize(n * kWallSlots); }
+  void resize(std::size_t n) {
+    wall_slots_.resize(n * kWallSlots);
+    wall_count_.resize(n);
+  }
   ContactEnergy contact_energy(const Particles& p, const NeighborList& nl, const std::vector<Wall>& walls) const;
   std::size_t bytes() const;
 
@@ -78,7 +82,8 @@ class ForceField {
   AnyModels models_;
   std::vector<int> wall_material_;
   std::vector<Vec3> pair_force_, pair_torque_i_, pair_torque_j_;
-  std::vector<WallSlot> wall_slots_, wall_scratch_;
+  std::vector<WallSlot> wall_slots_, wall_scratch_;  // kWallSlots per particle; the first wall_count_[i] used
+  std::vector<std::uint8_t> wall_count_, count_scratch_;
 };
 
 }  // namespace grainscale::dem

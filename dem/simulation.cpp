@@ -87,6 +87,8 @@ void Simulation::compute_forces() {
 }
 
 void Simulation::check_health() const {
+  if (diag_.bad_slot < 0 && diag_.slot_overflow < 0 && diag_.max_overlap_ratio <= settings_.max_overlap_ratio) return;
+  // Error path only from here: building the message may allocate.
   auto where = [&](std::int64_t s) {
     std::ostringstream o;
     const Vec3 x = particles_.x[s];

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "dem/quaternion.hpp"
+#include "dem/uninitialized_array.hpp"
 #include "dem/vec3.hpp"
 
 namespace grainscale::dem {
@@ -58,8 +59,8 @@ class Wall {
   /// Contacts of a sphere (centre c, radius r) with this wall; returns the count written to `out`.
   int contacts(const Vec3& c, double r, WallContact* out, int cap) const {
     constexpr int kMaxHits = 16;
-    WallHit hits[kMaxHits];
-    const int n = geometry_->nearby(pose_.to_body(c), r, hits, cap < kMaxHits ? cap : kMaxHits);
+    UninitializedArray<WallHit, kMaxHits> hits;
+    const int n = geometry_->nearby(pose_.to_body(c), r, hits.data(), cap < kMaxHits ? cap : kMaxHits);
     for (int k = 0; k < n; ++k) {
       const Vec3 nw = pose_.direction_to_world(hits[k].normal);
       out[k] = {nw, r - hits[k].distance, c - hits[k].distance * nw, hits[k].feature};

@@ -138,6 +138,25 @@ std::string YamlMap::choice_or(const std::string& key, const std::string& fallba
   return has(key) ? choice(key, allowed) : (read_.insert(key), fallback);
 }
 
+std::vector<std::string> YamlMap::choices_or_empty(const std::string& key, const std::vector<std::string>& allowed) {
+  std::vector<std::string> out;
+  if (!has(key)) return read_.insert(key), out;
+  const YAML::Node& n = require(key);
+  if (!n.IsSequence()) throw InputError(where(key) + " must be a list, e.g. [" + allowed.front() + "]");
+  for (const auto& item : n) {
+    const std::string v = item.IsScalar() ? item.Scalar() : std::string("?");
+    bool ok = false;
+    for (const auto& a : allowed) ok = ok || a == v;
+    if (!ok) {
+      std::string list;
+      for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
+      throw InputError(where(key) + ": '" + v + "' is not allowed; choose from: " + list);
+    }
+    out.push_back(v);
+  }
+  return out;
+}
+
 dem::Vec3 YamlMap::vec3(const std::string& key, Range r) {
   const YAML::Node& n = require(key);
   if (!n.IsSequence() || n.size() != 3) throw InputError(where(key) + " must be a list of 3 numbers [x, y, z]");

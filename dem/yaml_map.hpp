@@ -46,6 +46,8 @@ class YamlMap {
   /// A string that must be one of `allowed`.
   std::string choice(const std::string& key, const std::vector<std::string>& allowed);
   std::string choice_or(const std::string& key, const std::string& fallback, const std::vector<std::string>& allowed);
+  /// A list of strings, each one of `allowed`; empty if the key is absent.
+  std::vector<std::string> choices_or_empty(const std::string& key, const std::vector<std::string>& allowed);
   dem::Vec3 vec3(const std::string& key, Range component_range = {});
   dem::Vec3 vec3_or(const std::string& key, dem::Vec3 fallback, Range component_range = {});
   YamlMap map(const std::string& key);

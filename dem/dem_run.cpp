@@ -1,0 +1,101 @@
+#include "dem/dem_run.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+
+#include "dem/atomic_file.hpp"
+#include "dem/progress.hpp"
+#include "dem/snapshot.hpp"
+#include "grainscale_version.hpp"
+
+namespace grainscale::dem {
+
+namespace fs = std::filesystem;
+
+DemRun::DemRun(std::string scenario_file, std::string output_override)
+    : scenario_file_(std::move(scenario_file)), out_dir_(std::move(output_override)) {}
+
+void DemRun::log(const std::string& line) {
+  std::cerr << "[dem] " << line << '\n';
+  if (log_) log_ << line << '\n' << std::flush;
+}
+
+void DemRun::setup() {
+  scenario_ = load_scenario(scenario_file_);
+  if (out_dir_.empty()) out_dir_ = scenario_.output_directory;
+  fs::create_directories(fs::path(out_dir_) / "inputs");
+  fs::create_directories(fs::path(out_dir_) / "snapshots");
+  log_.open(fs::path(out_dir_) / "log.txt", std::ios::app);
+  if (!log_) throw std::runtime_error("cannot write " + (fs::path(out_dir_) / "log.txt").string());
+  fs::copy_file(scenario_file_, fs::path(out_dir_) / "inputs" / fs::path(scenario_file_).filename(),
+                fs::copy_options::overwrite_existing);
+  fs::copy_file(scenario_.materials_file, fs::path(out_dir_) / "inputs" / fs::path(scenario_.materials_file).filename(),
+                fs::copy_options::overwrite_existing);
+
+  log(std::string("grainscale ") + version + " (" + git_revision + "), scenario " + scenario_file_);
+  sim_ = build(scenario_);
+  sim_->setup();
+  std::ostringstream s;
+  s << sim_->particles().size() << " spheres, " << sim_->walls().size() << " walls; " << sim_->time_step_report()
+    << "; neighbour skin " << sim_->neighbors().skin() << " m";
+  log(s.str());
+}
+
+void DemRun::write_snapshot_now() {
+  char name[64];
+  std::snprintf(name, sizeof name, "snap_%06zu.h5", snapshots_.size());
+  const std::string path = (fs::path(out_dir_) / "snapshots" / name).string();
+  write_snapshot(*sim_, path, {scenario_.name, scenario_.seed});
+  snapshots_.emplace_back(sim_->time(), path);
+  write_xdmf_series((fs::path(out_dir_) / "snapshots.xmf").string(), snapshots_);
+}
+
+void DemRun::run() {
+  Simulation& sim = *sim_;
+  Progress progress(sim.time(), scenario_.end_time, scenario_.progress_interval, [this](const std::string& l) { log(l); });
+  const double interval = scenario_.snapshot_interval;
+  double next_snapshot = interval > 0 ? sim.time() : std::numeric_limits<double>::infinity();
+  const auto total_steps = static_cast<std::uint64_t>(std::ceil(scenario_.end_time / sim.dt() - 1e-9));
+  while (sim.steps() < total_steps) {
+    if (sim.time() >= next_snapshot - 0.5 * sim.dt()) {
+      write_snapshot_now();
+      next_snapshot += interval;
+    }
+    sim.step();
+    if ((sim.steps() & 63) == 0) progress.update(sim.time(), sim.steps(), sim.particles().size());
+  }
+  progress.update(sim.time(), sim.steps(), sim.particles().size(), true);
+  wall_seconds_ = progress.elapsed();
+}
+
+void DemRun::output() {
+  write_snapshot_now();
+  const Simulation& sim = *sim_;
+  const Energy e = sim.energy();
+  std::ostringstream y;
+  y << "# grainscale dem run summary\n"
+    << "scenario: " << scenario_.name << "\n"
+    << "code_version: \"" << version << " " << git_revision << "\"\n"
+    << "particles: " << sim.particles().size() << "\n"
+    << "simulated_time_s: " << sim.time() << "\n"
+    << "steps: " << sim.steps() << "\n"
+    << "time_step_s: " << sim.dt() << "\n"
+    << "rayleigh_time_s: " << sim.rayleigh_time() << "\n"
+    << "wall_clock_s: " << wall_seconds_ << "\n"
+    << "sphere_steps_per_s: " << (wall_seconds_ > 0 ? sim.steps() * static_cast<double>(sim.particles().size()) / wall_seconds_ : 0) << "\n"
+    << "neighbour_list_builds: " << sim.neighbors().builds() << "\n"
+    << "contacts: " << sim.diagnostics().contacts << "\n"
+    << "wall_contacts: " << sim.diagnostics().wall_contacts << "\n"
+    << "max_overlap_ratio: " << sim.diagnostics().max_overlap_ratio << "\n"
+    << "kinetic_energy_J: " << e.kinetic_translation + e.kinetic_rotation << "\n"
+    << "snapshots: " << snapshots_.size() << "\n";
+  write_file_atomically((fs::path(out_dir_) / "summary.yaml").string(), y.str());
+  log("done: " + std::to_string(snapshots_.size()) + " snapshots in " + out_dir_ + "/snapshots, ParaView: " + out_dir_ +
+      "/snapshots.xmf");
+}
+
+}  // namespace grainscale::dem

@@ -1,0 +1,125 @@
+#include "dem/scenario.hpp"
+
+#include <array>
+#include <limits>
+
+#include "dem/input_error.hpp"
+#include "dem/walls/box.hpp"
+#include "dem/walls/cylinder.hpp"
+#include "dem/walls/plane.hpp"
+#include "dem/yaml_map.hpp"
+
+namespace grainscale::dem {
+
+namespace {
+
+WallSpec parse_wall(YamlMap w) {
+  WallSpec spec;
+  spec.name = w.string("name");
+  spec.material = w.string("material");
+  const std::string type = w.choice("type", {"plane", "box", "cylinder"});
+  spec.pose.origin = w.vec3_or("origin", {});
+  if (type == "plane") {
+    const Vec3 normal = w.vec3("normal");
+    if (norm(normal) == 0) throw InputError(w.where("normal") + " must not be the zero vector");
+    spec.geometry = std::make_shared<PlaneGeometry>(w.vec3_or("point", {}), normal);
+  } else if (type == "box") {
+    const Vec3 lo = w.vec3("min"), hi = w.vec3("max");
+    if (!(hi.x > lo.x && hi.y > lo.y && hi.z > lo.z)) throw InputError(w.where("max") + " must exceed 'min' in x, y and z");
+    std::array<bool, 6> closed{true, true, true, true, true, true};
+    const std::vector<std::string> faces{"-x", "+x", "-y", "+y", "-z", "+z"};
+    for (const std::string& face : w.choices_or_empty("open", faces)) {
+      for (int f = 0; f < 6; ++f) {
+        if (faces[f] == face) closed[f] = false;
+      }
+    }
+    spec.geometry = std::make_shared<BoxGeometry>(lo, hi, closed);
+  } else {
+    const double radius = w.number("radius", Range::positive());
+    const double height = w.number("height", Range::positive());
+    const bool inside = w.boolean_or("inside", true);
+    spec.geometry = std::make_shared<CylinderGeometry>(radius, 0.0, height, inside, w.boolean_or("bottom", inside),
+                                                       w.boolean_or("top", false));
+  }
+  w.finish();
+  return spec;
+}
+
+BatchSpec parse_batch(YamlMap p) {
+  BatchSpec b;
+  b.material = p.string("material");
+  b.batch.label = p.file() + ": " + p.path();
+  b.batch.diameter = p.number("diameter", {0, 10, true, false});
+  b.batch.diameter_spread = p.number_or("diameter_spread", 0, {0, 1, false, true});
+  const bool by_count = p.has("count"), by_mass = p.has("mass");
+  if (by_count == by_mass) {
+    throw InputError(p.where(by_count ? "count" : "mass") + ": give exactly one of 'count' or 'mass'");
+  }
+  if (by_count) b.batch.count = static_cast<std::uint64_t>(p.integer("count", 1, 100'000'000));
+  if (by_mass) b.batch.mass = p.number("mass", Range::positive());
+  YamlMap region = p.map("region");
+  b.batch.region_min = region.vec3("min");
+  b.batch.region_max = region.vec3("max");
+  region.finish();
+  b.batch.velocity = p.vec3_or("velocity", {});
+  p.finish();
+  return b;
+}
+
+}  // namespace
+
+Scenario load_scenario(const std::string& file) {
+  YamlMap root = YamlMap::load_file(file);
+  Scenario s;
+  s.file = file;
+  s.name = root.string("name");
+  s.seed = static_cast<std::uint64_t>(root.integer_or("seed", 1, 0, std::numeric_limits<long>::max()));
+  s.materials_file = resolve_beside(file, root.string("materials"));
+  s.settings.scale_factor = root.number_or("scale_factor", 1.0, {1, 100, false, false});
+  s.settings.gravity = root.vec3_or("gravity", {0, 0, -9.81});
+
+  if (auto c = root.optional_map("contact")) {
+    s.settings.rolling.model = rolling_model_from_name(c->choice_or("rolling", "constant_torque", rolling_model_names()));
+    s.settings.rolling.epsd_stiffness_factor = c->number_or("epsd_stiffness_factor", 2.25, Range::positive());
+    s.settings.rolling.epsd_damping_ratio = c->number_or("epsd_damping_ratio", 0.3, Range::non_negative());
+    s.settings.max_overlap_ratio = c->number_or("max_overlap", 0.3, {0, 1, true, false});
+    c->finish();
+  }
+
+  YamlMap t = root.map("time");
+  s.end_time = t.number("end", Range::positive());
+  s.settings.time_step = t.number_or("step", 0.0, Range::non_negative());
+  s.settings.time_step_fraction = t.number_or("step_fraction", 0.2, {0, 1, true, false});
+  s.settings.skin = t.number_or("skin", 0.0, Range::non_negative());
+  t.finish();
+
+  if (root.has("walls")) {
+    for (YamlMap& w : root.list_of_maps("walls")) s.walls.push_back(parse_wall(w));
+  }
+  for (YamlMap& p : root.list_of_maps("particles")) s.particles.push_back(parse_batch(p));
+
+  YamlMap out = root.map("output");
+  s.output_directory = out.string("directory");
+  s.snapshot_interval = out.number_or("snapshot_interval", 0.0, Range::non_negative());
+  s.progress_interval = out.number_or("progress_interval", 5.0, Range::positive());
+  out.finish();
+  root.finish();
+  return s;
+}
+
+std::unique_ptr<Simulation> build(const Scenario& s) {
+  MaterialTable materials = MaterialTable::load(s.materials_file);
+  auto sim = std::make_unique<Simulation>(materials, s.settings);
+  for (const WallSpec& w : s.walls) {
+    sim->add_wall(w.name, w.geometry, materials.index(w.material, s.file + ": wall '" + w.name + "'"), w.pose);
+  }
+  Random rng(s.seed);
+  for (const BatchSpec& b : s.particles) {
+    SphereBatch batch = b.batch;
+    batch.material = materials.index(b.material, b.batch.label);
+    insert_spheres(*sim, batch, rng);
+  }
+  return sim;
+}
+
+}  // namespace grainscale::dem

@@ -1,0 +1,144 @@
+// Bad input gets a clear error naming the file, the key and the allowed range; the shipped inputs load.
+#include <catch2/catch.hpp>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "dem/input_error.hpp"
+#include "dem/material.hpp"
+#include "dem/scenario.hpp"
+
+using namespace grainscale;
+using namespace grainscale::dem;
+using Catch::Matchers::Contains;
+
+namespace {
+
+/// A YAML file in a fresh temporary folder, removed with the object.
+struct TempYaml {
+  std::filesystem::path dir, path;
+  TempYaml(const std::string& name, const std::string& text) {
+    dir = std::filesystem::temp_directory_path() /
+          ("grainscale_test_" + std::to_string(std::hash<std::string>{}(name + text)));
+    std::filesystem::create_directories(dir);
+    path = dir / name;
+    std::ofstream(path) << text;
+  }
+  ~TempYaml() { std::filesystem::remove_all(dir); }
+};
+
+const std::string kGoodMaterials = R"(materials:
+  grain: {density: 1380, shear_modulus: 2.6e6, poisson_ratio: 0.3}
+  wall:  {density: 1190, shear_modulus: 7.97e8, poisson_ratio: 0.38}
+pairs:
+  grain-grain: {restitution: 0.5, friction: 0.35, rolling_friction: 0.08}
+  grain-wall:  {restitution: 0.5, friction: 0.25, rolling_friction: 0.01}
+)";
+
+std::string replace(std::string s, const std::string& from, const std::string& to) {
+  s.replace(s.find(from), from.size(), to);
+  return s;
+}
+
+}  // namespace
+
+TEST_CASE("The report's Table 1 ships as a materials file and loads", "[dem][input]") {
+  const MaterialTable t = MaterialTable::load(GRAINSCALE_SOURCE_DIR "/studies/materials/report_table1.yaml");
+  REQUIRE(t.size() == 3);
+  const int barley = t.index("barley"), chaff = t.index("chaff"), perspex = t.index("perspex");
+  CHECK(t[barley].density == 1380);
+  CHECK(t[chaff].shear_modulus == 1.0e6);
+  CHECK(t[perspex].poisson_ratio == 0.38);
+  CHECK(t.pair(chaff, barley).restitution == 0.2);
+  CHECK(t.pair(barley, chaff).friction == 0.3);  // symmetric
+  CHECK(t.pair(barley, barley).rolling_friction == 0.08);
+  CHECK(t.pair(chaff, perspex).restitution == 0.1);
+  CHECK_THROWS_WITH(t.pair(perspex, perspex), Contains("perspex-perspex"));
+}
+
+TEST_CASE("Bad materials files are rejected with file, line, key and range", "[dem][input]") {
+  struct Case {
+    std::string from, to, expect;
+  };
+  const Case c = GENERATE(Case{"density: 1380", "density: -5", "materials.grain.density"},
+                          Case{"poisson_ratio: 0.3", "poisson_ratio: 0.5", "allowed (-1, 0.5)"},
+                          Case{"restitution: 0.5, friction: 0.35", "restitution: 1.5, friction: 0.35", "(0, 1]"},
+                          Case{"restitution: 0.5, friction: 0.35", "restitution: 0, friction: 0.35", "restitution"},
+                          Case{"friction: 0.35", "friction: -0.1", "pairs.grain-grain.friction"},
+                          Case{"friction: 0.35", "friction: lots", "must be a number"},
+                          Case{"grain-wall:", "grain-sand:", "unknown material 'sand'"},
+                          Case{"rolling_friction: 0.08", "rolling_friction: 0.08, resitution: 1", "unknown key"},
+                          Case{"shear_modulus: 2.6e6", "shear_modulus: 0", "shear_modulus"});
+  const TempYaml f("materials.yaml", replace(kGoodMaterials, c.from, c.to));
+  INFO(c.to);
+  CHECK_THROWS_AS(MaterialTable::load(f.path.string()), InputError);
+  CHECK_THROWS_WITH(MaterialTable::load(f.path.string()), Contains(c.expect) && Contains("materials.yaml:"));
+}
+
+TEST_CASE("Missing and malformed files are clear errors", "[dem][input]") {
+  CHECK_THROWS_WITH(MaterialTable::load("/nonexistent/m.yaml"), Contains("/nonexistent/m.yaml") && Contains("cannot open"));
+  const TempYaml f("broken.yaml", "materials: {grain: [1, 2\n");
+  CHECK_THROWS_WITH(MaterialTable::load(f.path.string()), Contains("broken.yaml") && Contains("syntax"));
+}
+
+namespace {
+
+const std::string kGoodScenario = R"(name: tiny
+seed: 3
+materials: materials.yaml
+time: {end: 0.01}
+walls:
+  - {name: box, type: box, min: [0, 0, 0], max: [0.05, 0.05, 0.1], open: [+z], material: wall}
+particles:
+  - {material: grain, diameter: 0.004, count: 50, region: {min: [0, 0, 0], max: [0.05, 0.05, 0.1]}}
+output: {directory: out}
+)";
+
+struct ScenarioFiles {
+  TempYaml materials, scenario;
+  ScenarioFiles(const std::string& text)
+      : materials("materials.yaml", kGoodMaterials), scenario("scenario.yaml", text) {
+    std::filesystem::copy_file(materials.path, scenario.dir / "materials.yaml",
+                               std::filesystem::copy_options::overwrite_existing);
+  }
+};
+
+}  // namespace
+
+TEST_CASE("A scenario builds the walls and inserts the particles it describes", "[dem][input]") {
+  const ScenarioFiles f(kGoodScenario);
+  const Scenario s = load_scenario(f.scenario.path.string());
+  auto sim = build(s);
+  CHECK(sim->particles().size() == 50);
+  REQUIRE(sim->walls().size() == 1);
+  for (std::size_t i = 0; i < sim->particles().size(); ++i) {
+    const Vec3 x = sim->particles().x[i];
+    const double r = sim->particles().radius[i];
+    CHECK((x.x >= r && x.x <= 0.05 - r && x.y >= r && x.y <= 0.05 - r && x.z >= r && x.z <= 0.1 - r));
+    for (std::size_t j = i + 1; j < sim->particles().size(); ++j) {
+      CHECK(norm(x - sim->particles().x[j]) >= r + sim->particles().radius[j]);  // no overlaps
+    }
+  }
+  auto again = build(s);  // same seed, same particles
+  CHECK(again->particles().x == sim->particles().x);
+  sim->run_steps(10);  // and it runs
+}
+
+TEST_CASE("Bad scenarios are rejected with file, line, key and range", "[dem][input]") {
+  struct Case {
+    std::string from, to, expect;
+  };
+  const Case c = GENERATE(
+      Case{"end: 0.01", "end: -1", "time.end"}, Case{"end: 0.01", "end: 0.01, stp: 1", "unknown key 'time.stp'"},
+      Case{"open: [+z]", "open: [top]", "'top' is not allowed"}, Case{"type: box", "type: sphere", "choose one of"},
+      Case{"material: wall}", "material: steel}", "unknown material 'steel'"},
+      Case{"count: 50", "count: 50, mass: 1", "exactly one of"},
+      Case{"diameter: 0.004", "diameter: 0.2", "narrower than the largest particle"},
+      Case{"count: 50", "count: 100000", "random insertion jams"},
+      Case{"max: [0.05, 0.05, 0.1], open", "max: [0.05, 0.05], open", "list of 3 numbers"},
+      Case{"materials: materials.yaml", "materials: nothere.yaml", "nothere.yaml"});
+  const ScenarioFiles f(replace(kGoodScenario, c.from, c.to));
+  INFO(c.to);
+  CHECK_THROWS_AS(build(load_scenario(f.scenario.path.string())), InputError);
+  CHECK_THROWS_WITH(build(load_scenario(f.scenario.path.string())), Contains(c.expect));
+}
