@@ -48,9 +48,9 @@ void DemRun::setup() {
 void DemRun::write_snapshot_now() {
   char name[64];
   std::snprintf(name, sizeof name, "snap_%06zu.h5", snapshots_.size());
-  const std::string path = (fs::path(out_dir_) / "snapshots" / name).string();
-  write_snapshot(*sim_, path, {scenario_.name, scenario_.seed});
-  snapshots_.emplace_back(sim_->time(), path);
+  const std::string rel = (fs::path("snapshots") / name).string();
+  write_snapshot(*sim_, (fs::path(out_dir_) / rel).string(), {scenario_.name, scenario_.seed});
+  snapshots_.push_back({sim_->time(), rel, sim_->particles().size()});
   write_xdmf_series((fs::path(out_dir_) / "snapshots.xmf").string(), snapshots_);
 }
 

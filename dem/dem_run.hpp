@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "dem/scenario.hpp"
+#include "dem/snapshot.hpp"
 
 namespace grainscale::dem {
 
@@ -34,7 +35,7 @@ class DemRun {
   Scenario scenario_;
   std::unique_ptr<Simulation> sim_;
   std::ofstream log_;
-  std::vector<std::pair<double, std::string>> snapshots_;
+  std::vector<XdmfFrame> snapshots_;
   double wall_seconds_ = 0;
 };
 

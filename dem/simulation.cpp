@@ -26,6 +26,13 @@ std::uint64_t Simulation::add_sphere(int material, double radius, const Vec3& x,
 void Simulation::add_wall(std::string name, std::shared_ptr<const WallGeometry> geometry, int material,
                           const WallPose& pose) {
   if (material < 0 || material >= materials_.size()) throw InputError("wall '" + name + "': material index out of range");
+  // Wall names key the wall's record in every snapshot (/walls/<name>), so they must be usable there.
+  if (name.empty() || name == "." || name.find('/') != std::string::npos) {
+    throw InputError("wall name '" + name + "' is not allowed: it must be non-empty, not '.', and without '/'");
+  }
+  for (const Wall& w : walls_) {
+    if (w.name() == name) throw InputError("two walls are named '" + name + "'; wall names must be unique");
+  }
   walls_.emplace_back(std::move(name), std::move(geometry), material, pose);
   ready_ = false;
 }

@@ -594,21 +594,6 @@ std::string exact(double t) {
   return std::string(buf, res.ptr);
 }
 
-/// Particle count of a snapshot, without reading the arrays.
-hsize_t particle_count(const Reader& r) {
-  const Handle f = r.open_file();
-  const Handle g = r.open_group(f.id(), "particles");
-  if (H5Lexists(g.id(), "position", H5P_DEFAULT) <= 0) r.bad("lacks dataset '/particles/position'");
-  const Handle d(H5Dopen2(g.id(), "position", H5P_DEFAULT), H5Dclose, "opening dataset '/particles/position'");
-  const Handle space(H5Dget_space(d.id()), H5Sclose, "reading dataset '/particles/position'");
-  hsize_t dims[2] = {0, 0};
-  if (H5Sget_simple_extent_ndims(space.id()) != 2 || H5Sget_simple_extent_dims(space.id(), dims, nullptr) < 0 ||
-      dims[1] != 3) {
-    r.bad("dataset '/particles/position' is not of shape [N x 3]");
-  }
-  return dims[0];
-}
-
 void write_grid(std::ostream& o, double time, const std::string& ref, const std::string& name, hsize_t n) {
   const std::string N = std::to_string(n);
   auto item = [&](const std::string& dims, const char* type, int precision, const char* dataset) {
@@ -675,8 +660,7 @@ Snapshot read_snapshot(const std::string& path) {
   }
 }
 
-void write_xdmf_series(const std::string& xmf_path, const std::vector<std::pair<double, std::string>>& time_and_h5_file,
-                       std::size_t) {
+void write_xdmf_series(const std::string& xmf_path, const std::vector<XdmfFrame>& frames) {
   const fs::path xmf_dir = fs::path(xmf_path).parent_path();
   std::ostringstream o;
   o << "<?xml version=\"1.0\" ?>\n"
@@ -686,23 +670,12 @@ void write_xdmf_series(const std::string& xmf_path, const std::vector<std::pair<
     << "<Xdmf Version=\"2.0\">\n"
     << "  <Domain>\n"
     << "    <Grid Name=\"particles\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
-  {
-    const QuietHdf5 quiet;
-    for (const auto& [time, h5] : time_and_h5_file) {
-      if (!std::isfinite(time)) {
-        throw std::invalid_argument("write_xdmf_series('" + xmf_path + "'): time of '" + h5 + "' is not finite");
-      }
-      // Relative references resolve against the .xmf's directory, as ParaView resolves them.
-      const std::string on_disk = (xmf_dir / h5).string();  // `/` keeps an absolute h5 path as it is
-      const Reader r(on_disk);
-      hsize_t n = 0;
-      try {
-        n = particle_count(r);
-      } catch (const Hdf5Failure& e) {
-        r.bad(e.what());
-      }
-      write_grid(o, time, xml_escape(fs::path(h5).generic_string()), xml_escape(fs::path(h5).stem().string()), n);
+  for (const XdmfFrame& f : frames) {
+    if (!std::isfinite(f.time)) {
+      throw std::invalid_argument("write_xdmf_series('" + xmf_path + "'): time of '" + f.h5 + "' is not finite");
     }
+    write_grid(o, f.time, xml_escape(fs::path(f.h5).generic_string()), xml_escape(fs::path(f.h5).stem().string()),
+               static_cast<hsize_t>(f.particles));
   }
   o << "    </Grid>\n"
     << "  </Domain>\n"

@@ -72,17 +72,21 @@ struct Snapshot {
 /// inconsistent lengths, duplicate ids, or material indices outside material_names.
 Snapshot read_snapshot(const std::string& path);
 
+/// One snapshot in an XDMF series. `h5` is relative to the .xmf's directory (or absolute), like
+/// every path in an .xmf: for out/snapshots.xmf pass "snapshots/snap_000001.h5". Keeping references
+/// relative lets the output directory be moved as a whole. `particles` is the snapshot's particle
+/// count, which XDMF needs for the array sizes (the caller knows it; the files are not reopened, so
+/// rewriting the series after every snapshot of a long run stays cheap).
+struct XdmfFrame {
+  double time = 0;
+  std::string h5;
+  std::uint64_t particles = 0;
+};
+
 /// Write (atomically, tmp + rename) an XDMF 2 file that makes ParaView open the given snapshots as one
 /// time series: a temporal collection of Polyvertex grids on /particles/position with the attributes
-/// radius, material, id, velocity and angular_velocity.
-///
-/// Each .h5 path is written into the .xmf as given and, like every path in an .xmf, is relative to
-/// the .xmf's directory (or absolute): for out/snapshots.xmf pass "snapshots/snap_000001.h5", not
-/// "out/snapshots/snap_000001.h5". Keeping the references relative lets the output directory be moved
-/// as a whole. Each snapshot is opened to read its particle count (XDMF needs the array sizes), so
-/// it must exist: InputError (naming the file) otherwise. std::runtime_error if the .xmf cannot be
-/// written; std::invalid_argument for a non-finite time. The last argument is ignored.
-void write_xdmf_series(const std::string& xmf_path, const std::vector<std::pair<double, std::string>>& time_and_h5_file,
-                       std::size_t /*unused hint*/ = 0);
+/// radius, material, id, velocity and angular_velocity. std::runtime_error if the .xmf cannot be
+/// written; std::invalid_argument for a non-finite time.
+void write_xdmf_series(const std::string& xmf_path, const std::vector<XdmfFrame>& frames);
 
 }  // namespace grainscale::dem

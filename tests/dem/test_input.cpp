@@ -136,7 +136,8 @@ TEST_CASE("Bad scenarios are rejected with file, line, key and range", "[dem][in
       Case{"diameter: 0.004", "diameter: 0.2", "narrower than the largest particle"},
       Case{"count: 50", "count: 100000", "random insertion jams"},
       Case{"max: [0.05, 0.05, 0.1], open", "max: [0.05, 0.05], open", "list of 3 numbers"},
-      Case{"materials: materials.yaml", "materials: nothere.yaml", "nothere.yaml"});
+      Case{"materials: materials.yaml", "materials: nothere.yaml", "nothere.yaml"},
+      Case{"name: box,", "name: a/b,", "wall name 'a/b' is not allowed"});
   const ScenarioFiles f(replace(kGoodScenario, c.from, c.to));
   INFO(c.to);
   CHECK_THROWS_AS(build(load_scenario(f.scenario.path.string())), InputError);
