@@ -5,11 +5,9 @@
 #include <catch2/catch.hpp>
 #include <cstring>
 #include <memory>
-#include <random>
 #include <vector>
 
-#include "dem/simulation.hpp"
-#include "dem/walls/box.hpp"
+#include "barley_box_fixture.hpp"
 
 using namespace grainscale::dem;
 
@@ -17,23 +15,7 @@ namespace {
 
 std::vector<double> settle(int threads, RollingModel model) {
   omp_set_num_threads(threads);
-  MaterialTable mt;
-  mt.add({"grain", 1380, 2.6e6, 0.3});
-  mt.add({"perspex", 1190, 7.97e8, 0.38});
-  mt.set_pair(0, 0, {0.5, 0.35, 0.08, true});
-  mt.set_pair(0, 1, {0.5, 0.25, 0.01, true});
-  SimulationSettings st;
-  st.rolling.model = model;
-  Simulation sim(mt, st);
-  std::mt19937_64 rng(42);
-  std::uniform_real_distribution<double> u(0, 1);
-  for (int i = 0; i < 8; ++i)  // jittered lattice, spacing 7 mm > largest diameter 6.6 mm
-    for (int j = 0; j < 8; ++j)
-      for (int k = 0; k < 7; ++k) {
-        const Vec3 x{0.005 + 0.007 * i, 0.005 + 0.007 * j, 0.005 + 0.007 * k};
-        sim.add_sphere(0, 0.003 * (1 + 0.1 * u(rng)), x + Vec3{2e-4 * u(rng), 2e-4 * u(rng), 0}, {0.1 * u(rng), 0, 0});
-      }
-  sim.add_wall("box", std::make_shared<BoxGeometry>(Vec3{0, 0, 0}, Vec3{0.06, 0.06, 0.2}), 1);
+  Simulation sim = testing::barley_box(model, 8, 8, 7, 42);
   sim.run_steps(3000);
   // State sorted by id.
   const Particles& p = sim.particles();
