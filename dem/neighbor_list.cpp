@@ -125,16 +125,6 @@ void NeighborList::build(Particles& p, double skin, const std::vector<std::uint3
   ++builds_;
 }
 
-bool NeighborList::needs_rebuild(const Particles& p) const {
-  if (start_.size() != p.size() + 1) return true;
-  const double limit2 = 0.25 * skin_ * skin_;
-  const std::size_t n = p.size();
-  double worst = 0;
-#pragma omp parallel for reduction(max : worst) schedule(static)
-  for (std::size_t i = 0; i < n; ++i) worst = std::max(worst, norm2(p.x[i] - p.x_at_build[i]));
-  return worst > limit2;
-}
-
 std::size_t NeighborList::bytes() const {
   return cell_start_.capacity() * 4 + cell_index_.capacity() * 4 + order_.capacity() * 4 +
          (start_.capacity() + partner_.capacity() + count_.capacity() + old_start_.capacity() +

@@ -27,8 +27,12 @@ class NeighborList {
   /// new slots to the slots of the previous build so histories can be carried over.
   void build(Particles& p, double skin, const std::vector<std::uint32_t>& new_to_old);
 
-  /// True once some particle has moved more than skin/2 since the last build.
-  bool needs_rebuild(const Particles& p) const;
+  /// True once some particle has moved more than skin/2 since the last build, given the largest
+  /// squared displacement since the build (computed by the caller inside its drift loop), or if the
+  /// particle count has changed.
+  bool stale(const Particles& p, double max_displacement2) const {
+    return start_.size() != p.size() + 1 || max_displacement2 > 0.25 * skin_ * skin_;
+  }
 
   std::uint32_t begin(std::size_t i) const { return start_[i]; }
   std::uint32_t end(std::size_t i) const { return start_[i + 1]; }

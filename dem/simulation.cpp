@@ -159,18 +159,24 @@ void Simulation::step() {
   if (!ready_) setup();
   Particles& p = particles_;
   const std::size_t n = p.size();
-  const double dt = dt_;
-  kick(0.5 * dt);
-#pragma omp parallel for schedule(static)
+  const double dt = dt_, half = 0.5 * dt_;
+  // Half kick, drift and the largest displacement since the last neighbour build, in one pass
+  // (one parallel region instead of three: at a few thousand particles a step takes ~0.2 ms and
+  // each fork/join costs microseconds).
+  double moved2 = 0;
+#pragma omp parallel for schedule(static) reduction(max : moved2)
   for (std::size_t i = 0; i < n; ++i) {
+    p.v[i] += (half * p.inv_mass[i]) * p.force[i];
+    p.omega[i] += (half * p.inv_inertia[i]) * p.torque[i];
     p.x[i] += dt * p.v[i];
     p.q[i] = advance(p.q[i], p.omega[i], dt);
+    moved2 = std::max(moved2, norm2(p.x[i] - p.x_at_build[i]));
   }
   time_ += dt;
   ++steps_;
-  if (neighbors_.needs_rebuild(p)) rebuild();
+  if (neighbors_.stale(p, moved2)) rebuild();
   compute_forces();
-  kick(0.5 * dt);
+  kick(half);
 }
 
 void Simulation::run_steps(std::uint64_t n) {
