@@ -55,7 +55,8 @@ say "LIGGGHTS: $LIGGGHTS ($(dpkg-query -W -f='${Version}' liggghts 2>/dev/null |
 
 # Debian's liggghts is built against Open MPI: several processes need mpirun.
 LIG_MPI=0
-if ldd "$LIGGGHTS" 2>/dev/null | grep -q 'libmpi'; then LIG_MPI=1; fi
+# (grep -c, not grep -q: under pipefail an early-exiting grep kills ldd with SIGPIPE and the test fails)
+if [[ $(ldd "$LIGGGHTS" 2>/dev/null | grep -c libmpi) -gt 0 ]]; then LIG_MPI=1; fi
 MPIRUN=()
 if [[ "$LIG_MPI" -eq 1 ]]; then
   if command -v mpirun >/dev/null 2>&1; then

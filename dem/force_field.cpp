@@ -120,11 +120,13 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
     }
   }
 
-  // Pass 2: gather per particle in a fixed order; walls and gravity.
+  // Pass 2: gather per particle in a fixed order; walls and gravity. Dynamic schedule: slots are in
+  // z-major cell order, so a static split would hand one thread the whole floor layer and with it
+  // every wall contact of a settled bed.
   std::int64_t bad = std::numeric_limits<std::int64_t>::max();
   std::int64_t overflow = std::numeric_limits<std::int64_t>::max();
   double worst_wall = 0;
-#pragma omp parallel for schedule(static) reduction(+ : wall_contacts) reduction(min : bad, overflow) \
+#pragma omp parallel for schedule(dynamic, 128) reduction(+ : wall_contacts) reduction(min : bad, overflow) \
     reduction(max : worst_wall)
   for (std::size_t i = 0; i < n; ++i) {
     Vec3 f = p.mass[i] * gravity;
