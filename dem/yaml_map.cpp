@@ -157,6 +157,27 @@ std::vector<std::string> YamlMap::choices_or_empty(const std::string& key, const
   return out;
 }
 
+std::vector<double> YamlMap::numbers_or_empty(const std::string& key, std::size_t min_count, std::size_t max_count,
+                                              Range range) {
+  std::vector<double> out;
+  if (!has(key)) return read_.insert(key), out;
+  const YAML::Node& n = require(key);
+  if (!n.IsSequence() || n.size() < min_count || n.size() > max_count) {
+    throw InputError(where(key) + " must be a list of " + std::to_string(min_count) + " to " + std::to_string(max_count) +
+                     " numbers");
+  }
+  for (std::size_t i = 0; i < n.size(); ++i) {
+    const double v = to_number(n[i], key);
+    if (!range.contains(v)) {
+      std::ostringstream s;
+      s << where(key) << " item " << i << " = " << v << " is out of range; allowed " << range.describe();
+      throw InputError(s.str());
+    }
+    out.push_back(v);
+  }
+  return out;
+}
+
 dem::Vec3 YamlMap::vec3(const std::string& key, Range r) {
   const YAML::Node& n = require(key);
   if (!n.IsSequence() || n.size() != 3) throw InputError(where(key) + " must be a list of 3 numbers [x, y, z]");

@@ -48,6 +48,9 @@ class YamlMap {
   std::string choice_or(const std::string& key, const std::string& fallback, const std::vector<std::string>& allowed);
   /// A list of strings, each one of `allowed`; empty if the key is absent.
   std::vector<std::string> choices_or_empty(const std::string& key, const std::vector<std::string>& allowed);
+  /// A list of min_count..max_count numbers, each in `range`; empty if the key is absent.
+  std::vector<double> numbers_or_empty(const std::string& key, std::size_t min_count, std::size_t max_count,
+                                       Range range = {});
   dem::Vec3 vec3(const std::string& key, Range component_range = {});
   dem::Vec3 vec3_or(const std::string& key, dem::Vec3 fallback, Range component_range = {});
   YamlMap map(const std::string& key);
