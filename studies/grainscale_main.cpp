@@ -2,6 +2,7 @@
 #include <omp.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <iostream>
@@ -12,6 +13,8 @@
 #include "dem/dem_run.hpp"
 #include "dem/input_error.hpp"
 #include "dem/scenario.hpp"
+#include "dem/shape.hpp"
+#include "studies/shape_picture.hpp"
 #include "grainscale_version.hpp"
 
 namespace {
@@ -30,6 +33,10 @@ commands:
         settle the scenario to its end time, then time N further steps (default
         20000) from the same settled state on each thread count in LIST (default
         1,2); prints sphere-steps per second and the speed-up
+  shape SHAPE.yaml [--png FILE.png] [--density KG_M3 | --mass KG]
+        check a particle shape: size against the measured size, volume, centroid,
+        principal moments; with --mass, the density that gives that particle mass
+        (e.g. the thousand-grain mass / 1000); --png draws top, side and end views
   version
         print the version
 
@@ -40,6 +47,8 @@ struct Args {
   std::vector<std::string> positional;
   std::string out;
   std::string threads;
+  std::string png;
+  double density = 0, mass = 0;
   long steps = 20000;
 };
 
@@ -51,7 +60,21 @@ Args parse(int argc, char** argv, int first) {
       if (i + 1 >= argc) throw InputError(std::string("option ") + name + " needs a value");
       return std::string(argv[++i]);
     };
+    auto positive = [&](const char* name) {
+      const std::string v = value(name);
+      double d = 0;
+      try {
+        d = std::stod(v);
+      } catch (...) {
+        throw InputError(std::string(name) + ": '" + v + "' is not a number");
+      }
+      if (!(d > 0) || !std::isfinite(d)) throw InputError(std::string(name) + " must be positive");
+      return d;
+    };
     if (s == "--out") a.out = value("--out");
+    else if (s == "--png") a.png = value("--png");
+    else if (s == "--density") a.density = positive("--density");
+    else if (s == "--mass") a.mass = positive("--mass");
     else if (s == "--threads") a.threads = value("--threads");
     else if (s == "--steps") {
       const std::string v = value("--steps");
@@ -121,6 +144,36 @@ int run_bench(const Args& a) {
   return 0;
 }
 
+int run_shape(const Args& a) {
+  if (a.positional.size() != 1) throw InputError("usage: grainscale shape SHAPE.yaml [--png FILE.png] [--density KG_M3 | --mass KG]");
+  if (a.density > 0 && a.mass > 0) throw InputError("give --density or --mass, not both");
+  const dem::Shape s = dem::load_shape(a.positional[0]);
+  const dem::MassProperties mp = dem::union_mass_properties(s.spheres);
+  const dem::Vec3 b = s.bounding_size();
+  std::printf("shape %s: %zu spheres\n", s.name.c_str(), s.spheres.size());
+  if (!s.source.empty()) std::printf("source: %s\n", s.source.c_str());
+  std::printf("bounding box: %.4g x %.4g x %.4g mm\n", b.x * 1e3, b.y * 1e3, b.z * 1e3);
+  const auto dims = s.sorted_dimensions();
+  for (std::size_t k = 0; k < s.measured_size.size(); ++k) {
+    std::printf("  %s %.4g mm, measured %.4g mm (%+.2f %%)\n", k == 0 ? "length" : k == 1 ? "width" : "thickness",
+                dims[k] * 1e3, s.measured_size[k] * 1e3, 100 * (dims[k] / s.measured_size[k] - 1));
+  }
+  std::printf("volume (overlaps counted once): %.5g mm^3; equivalent sphere diameter %.4g mm\n", mp.volume * 1e9,
+              2e3 * std::cbrt(3 * mp.volume / (4 * M_PI)));
+  std::printf("centroid: (%.4g, %.4g, %.4g) mm\n", mp.centroid.x * 1e3, mp.centroid.y * 1e3, mp.centroid.z * 1e3);
+  std::printf("principal moments per density: %.5g, %.5g, %.5g mm^5\n", mp.principal_moments.x * 1e15,
+              mp.principal_moments.y * 1e15, mp.principal_moments.z * 1e15);
+  if (a.density > 0) std::printf("mass at %.6g kg/m^3: %.5g mg\n", a.density, a.density * mp.volume * 1e6);
+  if (a.mass > 0) {
+    std::printf("density for a particle mass of %.5g mg: %.5g kg/m^3\n", a.mass * 1e6, a.mass / mp.volume);
+  }
+  if (!a.png.empty()) {
+    studies::draw_shape(s).write_png(a.png);
+    std::printf("picture (top, side, end views; bar = 1 mm): %s\n", a.png.c_str());
+  }
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -139,6 +192,7 @@ int main(int argc, char** argv) {
     const Args a = parse(argc, argv, 2);
     if (cmd == "dem") return run_dem(a);
     if (cmd == "bench") return run_bench(a);
+    if (cmd == "shape") return run_shape(a);
     if (cmd == "version") {
       std::cout << "grainscale " << version << " (" << git_revision << ")\n";
       return 0;
