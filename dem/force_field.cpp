@@ -56,14 +56,13 @@ void ForceField::setup(const MaterialTable& mt, const std::vector<Wall>& walls, 
   for (const Wall& w : walls) wall_material_.push_back(w.material());
 }
 
-ForceDiagnostics ForceField::compute(Particles& p, NeighborList& nl, const std::vector<Wall>& walls,
-                                     const Vec3& gravity, double dt) {
-  return std::visit([&](const auto& m) { return compute_with(m, p, nl, walls, gravity, dt); }, models_);
+ForceDiagnostics ForceField::compute(Particles& p, NeighborList& nl, const std::vector<Wall>& walls, double dt) {
+  return std::visit([&](const auto& m) { return compute_with(m, p, nl, walls, dt); }, models_);
 }
 
 template <class Rolling>
 ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p, NeighborList& nl,
-                                          const std::vector<Wall>& walls, const Vec3& gravity, double dt) {
+                                          const std::vector<Wall>& walls, double dt) {
   const std::size_t n = p.size();
   const std::size_t entries = nl.entries();
   pair_force_.resize(entries);
@@ -120,7 +119,8 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
     }
   }
 
-  // Pass 2: gather per particle in a fixed order; walls and gravity. Dynamic schedule: slots are in
+  // Pass 2: gather per sphere in a fixed order, and the sphere's wall contacts. (Gravity acts on
+  // bodies: Simulation adds it when it sums the spheres of each body.) Dynamic schedule: slots are in
   // z-major cell order, so a static split would hand one thread the whole floor layer and with it
   // every wall contact of a settled bed.
   std::int64_t bad = std::numeric_limits<std::int64_t>::max();
@@ -129,8 +129,7 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
 #pragma omp parallel for schedule(dynamic, 128) reduction(+ : wall_contacts) reduction(min : bad, overflow) \
     reduction(max : worst_wall)
   for (std::size_t i = 0; i < n; ++i) {
-    Vec3 f = p.mass[i] * gravity;
-    Vec3 t{};
+    Vec3 f{}, t{};
     for (std::uint32_t k = nl.begin(i); k < nl.end(i); ++k) {
       f += pair_force_[k];
       t += pair_torque_i_[k];

@@ -1,11 +1,11 @@
 #pragma once
-// Computes all forces and torques for one step: particle pairs from the neighbour list, particle-wall
-// contacts and gravity. The loop is written once (force_field.cpp) and instantiated for each
+// Computes the contact forces and torques on every sphere for one step: sphere pairs from the
+// neighbour list and sphere-wall contacts. (Bodies add gravity when they sum their spheres.) The loop is written once (force_field.cpp) and instantiated for each
 // contact/rolling model pair; models are small evaluator structs in dem/contact/.
 //
 // Pass 1 runs over neighbour-list entries (owner slot in parallel) and writes one record per entry;
-// pass 2 runs over particles and sums, in a fixed order, the records that involve the particle, its
-// wall contacts and gravity. No two threads write the same memory, so results are bitwise identical
+// pass 2 runs over spheres and sums, in a fixed order, the records that involve the sphere and its
+// wall contacts. No two threads write the same memory, so results are bitwise identical
 // for any thread count.
 #include <cstdint>
 #include <variant>
@@ -59,8 +59,7 @@ class ForceField {
   static constexpr int kWallSlots = 8;
 
   void setup(const MaterialTable& materials, const std::vector<Wall>& walls, const RollingSettings& rolling);
-  ForceDiagnostics compute(Particles& p, NeighborList& nl, const std::vector<Wall>& walls, const Vec3& gravity,
-                           double dt);
+  ForceDiagnostics compute(Particles& p, NeighborList& nl, const std::vector<Wall>& walls, double dt);
   /// Renumber the per-particle wall histories with the particles.
   void permute(const std::vector<std::uint32_t>& new_to_old);
   void resize(std::size_t n) {
@@ -77,7 +76,7 @@ class ForceField {
 
   template <class Rolling>
   ForceDiagnostics compute_with(const Models<Rolling>& m, Particles& p, NeighborList& nl, const std::vector<Wall>& walls,
-                                const Vec3& gravity, double dt);
+                                double dt);
 
   AnyModels models_;
   std::vector<int> wall_material_;

@@ -72,7 +72,7 @@ void NeighborList::build(Particles& p, double skin, const std::vector<std::uint3
         const std::uint32_t j0 = cell_start_[row + std::max(ix - 1, 0)];
         const std::uint32_t j1 = cell_start_[row + std::min(ix + 1, nx_ - 1) + 1];
         for (std::uint32_t j = j0; j < j1; ++j) {
-          if (p.id[j] <= p.id[i]) continue;
+          if (p.id[j] <= p.id[i] || p.body[j] == p.body[i]) continue;  // no contacts inside a body
           const double cut = p.radius[i] + p.radius[j] + skin;
           if (norm2(p.x[j] - xi) < cut * cut) visit(j);
         }

@@ -4,7 +4,7 @@
 // * Particles are binned in cubic cells of edge >= 2 r_max + skin and renumbered in cell order,
 //   so that particles close in space are close in memory (Morton-like locality per cell row).
 // * The list is a half list stored as CSR: pair {a, b} is stored once, under the particle with the
-//   smaller id, if |x_a - x_b| < r_a + r_b + skin. Keying ownership on id (not slot) means a pair
+//   smaller id, if |x_a - x_b| < r_a + r_b + skin and a, b belong to different bodies. Keying ownership on id (not slot) means a pair
 //   keeps its owner and the sign of its history across renumbering.
 // * It stays valid until some particle has moved more than skin/2 since the build.
 // * Each entry carries the contact history; a rebuild carries histories over to the new entries.

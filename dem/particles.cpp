@@ -8,17 +8,25 @@ namespace grainscale::dem {
 std::size_t Particles::add_sphere(std::uint64_t pid, int mat, double r, double density, const Vec3& pos,
                                   const Vec3& vel, const Vec3& ang_vel) {
   const double m = density * (4.0 / 3.0) * std::numbers::pi * r * r * r;
-  const double inert = 0.4 * m * r * r;
+  const std::size_t s = add_component(pid, static_cast<std::uint32_t>(size()), mat, r, {}, m, 0.4 * m * r * r, m, pos);
+  v[s] = vel;
+  omega[s] = ang_vel;
+  return s;
+}
+
+std::size_t Particles::add_component(std::uint64_t pid, std::uint32_t b, int mat, double r, const Vec3& off,
+                                     double body_mass, double body_min_inertia, double share, const Vec3& pos) {
   id.push_back(pid);
   material.push_back(mat);
+  body.push_back(b);
+  offset.push_back(off);
   radius.push_back(r);
-  mass.push_back(m);
-  inv_mass.push_back(1.0 / m);
-  inertia.push_back(inert);
-  inv_inertia.push_back(1.0 / inert);
+  mass.push_back(body_mass);
+  inertia.push_back(body_min_inertia);
+  mass_share.push_back(share);
   x.push_back(pos);
-  v.push_back(vel);
-  omega.push_back(ang_vel);
+  v.push_back({});
+  omega.push_back({});
   force.push_back({});
   torque.push_back({});
   q.push_back({});
@@ -29,8 +37,9 @@ std::size_t Particles::add_sphere(std::uint64_t pid, int mat, double r, double d
 void Particles::permute(const std::vector<std::uint32_t>& p) {
   permute_array(id, scratch_u_, p);
   permute_array(material, scratch_i_, p);
-  for (auto* a : {&radius, &mass, &inv_mass, &inertia, &inv_inertia}) permute_array(*a, scratch_d_, p);
-  for (auto* a : {&x, &v, &omega, &force, &torque, &x_at_build}) permute_array(*a, scratch_v_, p);
+  permute_array(body, scratch_b_, p);
+  for (auto* a : {&radius, &mass, &inertia, &mass_share}) permute_array(*a, scratch_d_, p);
+  for (auto* a : {&offset, &x, &v, &omega, &force, &torque, &x_at_build}) permute_array(*a, scratch_v_, p);
   permute_array(q, scratch_q_, p);
 }
 

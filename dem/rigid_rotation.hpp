@@ -61,6 +61,12 @@ inline void rotate_about_body_axis(int k, double t, Quat& q, Vec3& lb, const Vec
 
 /// Free rotation for time h (no torque): updates q; the world angular momentum L is unchanged.
 inline void free_rotation_step(Quat& q, const Vec3& L, const Vec3& inertia, double h) {
+  if (inertia.x == inertia.y && inertia.y == inertia.z) {
+    // Isotropic body (a sphere): omega = L / I is constant, one exact rotation (the splitting would
+    // give the same result with five; profiling showed sincos at 24 % of a sphere run).
+    q = advance(q, (1.0 / inertia.x) * L, h);
+    return;
+  }
   Vec3 lb = to_body(q, L);
   detail::rotate_about_body_axis(0, 0.5 * h, q, lb, inertia);
   detail::rotate_about_body_axis(1, 0.5 * h, q, lb, inertia);

@@ -3,10 +3,12 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <set>
 #include <sstream>
 
 #include "dem/input_error.hpp"
+#include "dem/rigid_rotation.hpp"
 #include "dem/time_step.hpp"
 
 namespace grainscale::dem {
@@ -14,13 +16,67 @@ namespace grainscale::dem {
 Simulation::Simulation(MaterialTable materials, SimulationSettings settings)
     : materials_(std::move(materials)), settings_(settings) {}
 
+std::uint64_t Simulation::add_body(double mass, const Vec3& inertia, const Vec3& x, const Quat& q, const Vec3& v,
+                                   const Vec3& omega, int shape) {
+  Bodies& b = bodies_;
+  const std::uint64_t id = b.size();
+  b.id.push_back(id);
+  b.shape.push_back(shape);
+  b.mass.push_back(mass);
+  b.inv_mass.push_back(1.0 / mass);
+  b.inertia.push_back(inertia);
+  b.x.push_back(x);
+  b.v.push_back(v);
+  b.q.push_back(q);
+  const Vec3 wb = to_body(q, omega);
+  b.L.push_back(rotate(q, {inertia.x * wb.x, inertia.y * wb.y, inertia.z * wb.z}));
+  b.omega.push_back(omega);
+  b.force.push_back({});
+  b.torque.push_back({});
+  ready_ = false;
+  return id;
+}
+
 std::uint64_t Simulation::add_sphere(int material, double radius, const Vec3& x, const Vec3& v, const Vec3& omega) {
   if (material < 0 || material >= materials_.size()) throw InputError("add_sphere: material index out of range");
   if (!(radius > 0) || !std::isfinite(radius)) throw InputError("add_sphere: radius must be positive and finite");
-  const std::uint64_t id = next_id_++;
-  particles_.add_sphere(id, material, radius, materials_[material].density, x, v, omega);
-  ready_ = false;
-  return id;
+  const double m = materials_[material].density * 4.0 / 3.0 * std::numbers::pi * radius * radius * radius;
+  const double inertia = 0.4 * m * radius * radius;
+  const std::uint64_t body = add_body(m, {inertia, inertia, inertia}, x, {}, v, omega, -1);
+  const std::size_t s = particles_.add_component(next_sphere_id_++, static_cast<std::uint32_t>(body), material, radius, {},
+                                                 m, inertia, m, x);
+  particles_.v[s] = v;
+  particles_.omega[s] = omega;
+  return body;
+}
+
+std::uint64_t Simulation::add_clump(const Shape& shape, int material, double density, const Vec3& x, const Quat& orientation,
+                                    const Vec3& v, const Vec3& omega) {
+  if (material < 0 || material >= materials_.size()) throw InputError("add_clump: material index out of range");
+  if (!(density > 0) || !std::isfinite(density)) throw InputError("add_clump: density must be positive and finite");
+  int shape_index = -1;
+  for (std::size_t k = 0; k < shape_names_.size(); ++k) {
+    if (shape_names_[k] == shape.name) shape_index = static_cast<int>(k);
+  }
+  if (shape_index < 0) {
+    shape_names_.push_back(shape.name);
+    shape_index = static_cast<int>(shape_names_.size()) - 1;
+  }
+  const MassProperties mp = union_mass_properties(shape.spheres);
+  const double mass = density * mp.volume;
+  const Vec3 inertia = density * mp.principal_moments;
+  // Body frame = principal frame; the user's orientation turns the shape file's frame into the world.
+  const Quat q = normalized(orientation * mp.principal_orientation);
+  const std::uint64_t body = add_body(mass, inertia, x, q, v, omega, shape_index);
+  // Each sphere stands for a share of the mass proportional to its own volume (overlaps shared).
+  double sum_r3 = 0;
+  for (const auto& c : shape.spheres) sum_r3 += c.radius * c.radius * c.radius;
+  for (const auto& c : shape.spheres) {
+    const Vec3 off = to_body(mp.principal_orientation, c.center - mp.centroid);
+    particles_.add_component(next_sphere_id_++, static_cast<std::uint32_t>(body), material, c.radius, off, mass,
+                             inertia.x, mass * c.radius * c.radius * c.radius / sum_r3, x + rotate(q, off));
+  }
+  return body;
 }
 
 void Simulation::add_wall(std::string name, std::shared_ptr<const WallGeometry> geometry, int material,
@@ -76,6 +132,7 @@ void Simulation::setup() {
   skin_ = settings_.skin > 0 ? settings_.skin : 0.2 * r_max;
   forces_.setup(materials_, walls_, settings_.rolling);
   forces_.resize(particles_.size());
+  move_spheres_with_bodies(true);
   rebuild();
   compute_forces();
   ready_ = true;
@@ -86,11 +143,65 @@ void Simulation::rebuild() {
   particles_.permute(order);
   forces_.permute(order);
   neighbors_.build(particles_, skin_, order);
+  index_spheres_by_body();
+}
+
+void Simulation::index_spheres_by_body() {
+  // Counting sort of sphere slots by body; within a body, slot order (fixed for a given state).
+  Bodies& b = bodies_;
+  const std::size_t nb = b.size(), ns = particles_.size();
+  b.sphere_start.assign(nb + 1, 0);
+  for (std::size_t s = 0; s < ns; ++s) ++b.sphere_start[particles_.body[s] + 1];
+  for (std::size_t k = 0; k < nb; ++k) b.sphere_start[k + 1] += b.sphere_start[k];
+  b.sphere_slot.resize(ns);
+  std::vector<std::uint32_t>& fill = body_fill_;
+  fill.assign(b.sphere_start.begin(), b.sphere_start.end() - 1);
+  for (std::size_t s = 0; s < ns; ++s) b.sphere_slot[fill[particles_.body[s]]++] = static_cast<std::uint32_t>(s);
 }
 
 void Simulation::compute_forces() {
-  diag_ = forces_.compute(particles_, neighbors_, walls_, settings_.gravity, dt_);
+  diag_ = forces_.compute(particles_, neighbors_, walls_, dt_);
   check_health();
+  sum_forces_on_bodies();
+}
+
+void Simulation::sum_forces_on_bodies() {
+  Bodies& b = bodies_;
+  const Particles& p = particles_;
+  const std::size_t nb = b.size();
+  const Vec3 g = settings_.gravity;
+#pragma omp parallel for schedule(static)
+  for (std::size_t k = 0; k < nb; ++k) {
+    Vec3 f{}, t{};
+    for (std::uint32_t m = b.sphere_start[k]; m < b.sphere_start[k + 1]; ++m) {
+      const std::uint32_t s = b.sphere_slot[m];
+      f += p.force[s];
+      t += cross(p.x[s] - b.x[k], p.force[s]) + p.torque[s];
+    }
+    b.force[k] = f + b.mass[k] * g;
+    b.torque[k] = t;
+  }
+}
+
+void Simulation::move_spheres_with_bodies(bool positions) {
+  // x_s = x_b + R(q_b) offset_s,  v_s = v_b + omega_b x (x_s - x_b),  omega_s = omega_b.
+  Particles& p = particles_;
+  const Bodies& b = bodies_;
+  const std::size_t n = p.size();
+  double moved2 = 0;
+#pragma omp parallel for schedule(static) reduction(max : moved2)
+  for (std::size_t s = 0; s < n; ++s) {
+    const std::uint32_t k = p.body[s];
+    const Vec3 r = rotate(b.q[k], p.offset[s]);
+    if (positions) {
+      p.x[s] = b.x[k] + r;
+      p.q[s] = b.q[k];
+      moved2 = std::max(moved2, norm2(p.x[s] - p.x_at_build[s]));
+    }
+    p.v[s] = b.v[k] + cross(b.omega[k], r);
+    p.omega[s] = b.omega[k];
+  }
+  if (positions) moved2_ = moved2;
 }
 
 void Simulation::check_health() const {
@@ -145,38 +256,46 @@ void Simulation::check_health() const {
   }
 }
 
+namespace {
+/// omega = R I^-1 R^T L; for an isotropic body simply L / I (no rotations needed).
+inline Vec3 body_angular_velocity(const Quat& q, const Vec3& L, const Vec3& inertia) {
+  if (inertia.x == inertia.y && inertia.y == inertia.z) return (1.0 / inertia.x) * L;
+  return angular_velocity(q, L, inertia);
+}
+}  // namespace
+
 void Simulation::kick(double half_dt) {
-  Particles& p = particles_;
-  const std::size_t n = p.size();
+  Bodies& b = bodies_;
+  const std::size_t n = b.size();
 #pragma omp parallel for schedule(static)
-  for (std::size_t i = 0; i < n; ++i) {
-    p.v[i] += (half_dt * p.inv_mass[i]) * p.force[i];
-    p.omega[i] += (half_dt * p.inv_inertia[i]) * p.torque[i];
+  for (std::size_t k = 0; k < n; ++k) {
+    b.v[k] += (half_dt * b.inv_mass[k]) * b.force[k];
+    b.L[k] += half_dt * b.torque[k];
+    b.omega[k] = body_angular_velocity(b.q[k], b.L[k], b.inertia[k]);
   }
 }
 
 void Simulation::step() {
   if (!ready_) setup();
-  Particles& p = particles_;
-  const std::size_t n = p.size();
+  Bodies& b = bodies_;
+  const std::size_t nb = b.size();
   const double dt = dt_, half = 0.5 * dt_;
-  // Half kick, drift and the largest displacement since the last neighbour build, in one pass
-  // (one parallel region instead of three: at a few thousand particles a step takes ~0.2 ms and
-  // each fork/join costs microseconds).
-  double moved2 = 0;
-#pragma omp parallel for schedule(static) reduction(max : moved2)
-  for (std::size_t i = 0; i < n; ++i) {
-    p.v[i] += (half * p.inv_mass[i]) * p.force[i];
-    p.omega[i] += (half * p.inv_inertia[i]) * p.torque[i];
-    p.x[i] += dt * p.v[i];
-    p.q[i] = advance(p.q[i], p.omega[i], dt);
-    moved2 = std::max(moved2, norm2(p.x[i] - p.x_at_build[i]));
+  // Half kick and drift of the bodies in one parallel pass.
+#pragma omp parallel for schedule(static)
+  for (std::size_t k = 0; k < nb; ++k) {
+    b.v[k] += (half * b.inv_mass[k]) * b.force[k];
+    b.L[k] += half * b.torque[k];
+    b.x[k] += dt * b.v[k];
+    free_rotation_step(b.q[k], b.L[k], b.inertia[k], dt);
+    b.omega[k] = body_angular_velocity(b.q[k], b.L[k], b.inertia[k]);
   }
   time_ += dt;
   ++steps_;
-  if (neighbors_.stale(p, moved2)) rebuild();
+  move_spheres_with_bodies(true);
+  if (neighbors_.stale(particles_, moved2_)) rebuild();
   compute_forces();
   kick(half);
+  move_spheres_with_bodies(false);  // sphere velocities at the full step, for output and diagnostics
 }
 
 void Simulation::run_steps(std::uint64_t n) {
@@ -185,14 +304,14 @@ void Simulation::run_steps(std::uint64_t n) {
 
 Energy Simulation::energy() const {
   Energy e;
-  const Particles& p = particles_;
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    e.kinetic_translation += 0.5 * p.mass[i] * norm2(p.v[i]);
-    e.kinetic_rotation += 0.5 * p.inertia[i] * norm2(p.omega[i]);
-    e.potential -= p.mass[i] * dot(settings_.gravity, p.x[i]);
+  const Bodies& b = bodies_;
+  for (std::size_t k = 0; k < b.size(); ++k) {
+    e.kinetic_translation += 0.5 * b.mass[k] * norm2(b.v[k]);
+    e.kinetic_rotation += rotational_energy(b.q[k], b.L[k], b.inertia[k]);
+    e.potential -= b.mass[k] * dot(settings_.gravity, b.x[k]);
   }
   if (ready_) {
-    const ContactEnergy c = forces_.contact_energy(p, neighbors_, walls_);
+    const ContactEnergy c = forces_.contact_energy(particles_, neighbors_, walls_);
     e.elastic_normal = c.normal;
     e.elastic_tangential = c.tangential;
   }
@@ -200,10 +319,11 @@ Energy Simulation::energy() const {
 }
 
 std::size_t Simulation::bytes() const {
-  const Particles& p = particles_;
-  const std::size_t per = sizeof(std::uint64_t) + sizeof(std::int32_t) + 5 * sizeof(double) + 6 * sizeof(Vec3) +
-                          sizeof(Quat);
-  return p.size() * per + neighbors_.bytes() + forces_.bytes();
+  const std::size_t per_sphere = sizeof(std::uint64_t) + 2 * sizeof(std::int32_t) + 4 * sizeof(double) +
+                                 7 * sizeof(Vec3) + sizeof(Quat) + sizeof(std::uint32_t);
+  const std::size_t per_body = sizeof(std::uint64_t) + sizeof(std::int32_t) + 2 * sizeof(double) + 7 * sizeof(Vec3) +
+                               sizeof(Quat) + 2 * sizeof(std::uint32_t);
+  return particles_.size() * per_sphere + bodies_.size() * per_body + neighbors_.bytes() + forces_.bytes();
 }
 
 }  // namespace grainscale::dem

@@ -1,10 +1,12 @@
 #pragma once
-// A DEM system of spheres and walls, advanced by velocity Verlet:
+// A DEM system of rigid bodies (loose spheres and clumps of spheres) and walls, advanced by velocity
+// Verlet with a symplectic rotation step:
 //
-//   v += dt/2 F/m,  w += dt/2 T/I          (half kick)
-//   x += dt v,      q <- exp(dt w) q       (drift)
-//   rebuild neighbour list if needed; F, T = forces(x, v, w)
-//   v += dt/2 F/m,  w += dt/2 T/I          (half kick)
+//   v += dt/2 F/m,  L += dt/2 T                    (half kick, bodies)
+//   x += dt v,      q <- free rotation by L for dt (drift; dem/rigid_rotation.hpp)
+//   spheres follow their bodies; rebuild the neighbour list if needed
+//   F, T = contact forces on spheres, summed per body, plus gravity
+//   v += dt/2 F/m,  L += dt/2 T                    (half kick, bodies)
 //
 // Velocity-dependent forces (damping, friction) see the half-step velocities, as in LIGGGHTS. For
 // conservative contacts the scheme is symplectic: energy does not drift (tests/dem/test_conservation).
@@ -14,11 +16,13 @@
 #include <string>
 #include <vector>
 
+#include "dem/bodies.hpp"
 #include "dem/force_field.hpp"
 #include "dem/material.hpp"
 #include "dem/neighbor_list.hpp"
 #include "dem/particles.hpp"
 #include "dem/rolling_model.hpp"
+#include "dem/shape.hpp"
 #include "dem/wall.hpp"
 
 namespace grainscale::dem {
@@ -50,8 +54,13 @@ class Simulation {
  public:
   Simulation(MaterialTable materials, SimulationSettings settings);
 
-  /// Add a solid sphere of the given material; returns its permanent id.
+  /// Add a loose solid sphere of the given material; returns its body id (which is also the id of
+  /// its one sphere when only loose spheres are added).
   std::uint64_t add_sphere(int material, double radius, const Vec3& x, const Vec3& v = {}, const Vec3& omega = {});
+  /// Add a clump of `shape` whose file frame is turned by `orientation` and whose centre of mass is at
+  /// `x`. Mass from `density` times the union volume (overlaps counted once). Returns its body id.
+  std::uint64_t add_clump(const Shape& shape, int material, double density, const Vec3& x, const Quat& orientation = {},
+                          const Vec3& v = {}, const Vec3& omega = {});
   void add_wall(std::string name, std::shared_ptr<const WallGeometry> geometry, int material, const WallPose& pose = {});
 
   /// Validate the set-up, choose the time step, build neighbours and compute the first forces.
@@ -68,8 +77,12 @@ class Simulation {
   /// One line on how dt was chosen, for the log.
   std::string time_step_report() const;
 
+  /// The component spheres (what contacts act on).
   Particles& particles() { return particles_; }
   const Particles& particles() const { return particles_; }
+  /// The rigid bodies (what is integrated).
+  const Bodies& bodies() const { return bodies_; }
+  const std::vector<std::string>& shape_names() const { return shape_names_; }
   std::vector<Wall>& walls() { return walls_; }
   const std::vector<Wall>& walls() const { return walls_; }
   const MaterialTable& materials() const { return materials_; }
@@ -85,17 +98,26 @@ class Simulation {
   void rebuild();
   void compute_forces();
   void check_health() const;
+  std::uint64_t add_body(double mass, const Vec3& inertia, const Vec3& x, const Quat& q, const Vec3& v,
+                         const Vec3& omega, int shape);
   void kick(double half_dt);
+  void move_spheres_with_bodies(bool positions);
+  void index_spheres_by_body();
+  void sum_forces_on_bodies();
 
   MaterialTable materials_;
   SimulationSettings settings_;
   Particles particles_;
+  Bodies bodies_;
+  std::vector<std::string> shape_names_;
   std::vector<Wall> walls_;
   NeighborList neighbors_;
   ForceField forces_;
   ForceDiagnostics diag_;
   double time_ = 0, dt_ = 0, skin_ = 0;
-  std::uint64_t steps_ = 0, next_id_ = 0;
+  std::uint64_t steps_ = 0, next_sphere_id_ = 0;
+  double moved2_ = 0;  // largest squared sphere displacement since the last neighbour build
+  std::vector<std::uint32_t> body_fill_;  // scratch for index_spheres_by_body
   bool ready_ = false;
 };
 

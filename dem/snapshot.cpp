@@ -260,7 +260,7 @@ void write_particles(hid_t file, const Particles& p, const CreationProperties& p
   write_dataset(g.id(), "id", gather(p.id), n, 0, dcpl);
   write_dataset(g.id(), "material", gather(p.material), n, 0, dcpl);
   write_dataset(g.id(), "radius", gather(p.radius), n, 0, dcpl);
-  write_dataset(g.id(), "mass", gather(p.mass), n, 0, dcpl);
+  write_dataset(g.id(), "mass", gather(p.mass_share), n, 0, dcpl);
   write_dataset(g.id(), "position", gather3(p.x), n, 3, dcpl);
   write_dataset(g.id(), "velocity", gather3(p.v), n, 3, dcpl);
   write_dataset(g.id(), "angular_velocity", gather3(p.omega), n, 3, dcpl);

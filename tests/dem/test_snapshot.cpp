@@ -130,7 +130,7 @@ void check_matches(const Snapshot& s, const Simulation& sim) {
     REQUIRE(i < p.size());
     CHECK(s.material[k] == p.material[i]);
     CHECK(same_bits(s.radius[k], p.radius[i]));
-    CHECK(same_bits(s.mass[k], p.mass[i]));
+    CHECK(same_bits(s.mass[k], p.mass_share[i]));
     CHECK(same_bits(s.position[k], p.x[i]));
     CHECK(same_bits(s.velocity[k], p.v[i]));
     CHECK(same_bits(s.angular_velocity[k], p.omega[i]));
