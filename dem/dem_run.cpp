@@ -37,7 +37,9 @@ void DemRun::setup() {
                 fs::copy_options::overwrite_existing);
 
   log(std::string("grainscale ") + version + " (" + git_revision + "), scenario " + scenario_file_);
-  sim_ = build(scenario_);
+  std::vector<std::string> report;
+  sim_ = build(scenario_, &report);
+  for (const std::string& line : report) log(line);
   sim_->setup();
   std::ostringstream s;
   s << sim_->particles().size() << " spheres, " << sim_->walls().size() << " walls; " << sim_->time_step_report()

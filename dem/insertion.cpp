@@ -44,17 +44,30 @@ class PlacementGrid {
 
 }  // namespace
 
-std::uint64_t insert_spheres(Simulation& sim, const SphereBatch& b, Random& rng) {
+Quat random_orientation(Random& rng) {
+  const double u1 = rng.uniform(), u2 = 2 * std::numbers::pi * rng.uniform(), u3 = 2 * std::numbers::pi * rng.uniform();
+  const double a = std::sqrt(1 - u1), c = std::sqrt(u1);
+  return normalized({a * std::sin(u2), a * std::cos(u2), c * std::sin(u3), c * std::cos(u3)});
+}
+
+InsertionReport insert_particles(Simulation& sim, const ParticleBatch& b, Random& rng) {
+  // Bounding radius of one particle about its centre of mass, and the clump's mass.
+  double clump_bound = 0, clump_mass = 0;
+  const double density = b.density > 0 ? b.density : sim.materials()[b.material].density;
+  if (b.shape) {
+    const MassProperties mp = union_mass_properties(b.shape->spheres);
+    for (const auto& c : b.shape->spheres) clump_bound = std::max(clump_bound, norm(c.center - mp.centroid) + c.radius);
+    clump_mass = density * mp.volume;
+  }
   const double r_mean = 0.5 * b.diameter;
-  const double r_max = r_mean * (1 + b.diameter_spread);
-  const double density = sim.materials()[b.material].density;
+  const double r_max = b.shape ? clump_bound : r_mean * (1 + b.diameter_spread);
   const Vec3 lo = b.region_min, hi = b.region_max;
   const double vol = (hi.x - lo.x) * (hi.y - lo.y) * (hi.z - lo.z);
   if (hi.x - lo.x < 2 * r_max || hi.y - lo.y < 2 * r_max || hi.z - lo.z < 2 * r_max) {
-    throw InputError(b.label + ": region is narrower than the largest particle diameter " + std::to_string(2 * r_max) + " m");
+    throw InputError(b.label + ": region is narrower than the largest particle (" + std::to_string(2 * r_max) + " m across)");
   }
 
-  // Everything already in the simulation counts as an obstacle.
+  // Everything already in the simulation counts as an obstacle (its spheres).
   std::vector<Vec3> xs(sim.particles().x);
   std::vector<double> rs(sim.particles().radius);
   double r_all_max = r_max;
@@ -62,20 +75,20 @@ std::uint64_t insert_spheres(Simulation& sim, const SphereBatch& b, Random& rng)
   PlacementGrid grid(2 * r_all_max);
   for (std::size_t k = 0; k < xs.size(); ++k) grid.add(xs[k], k);
 
-  std::uint64_t added = 0;
-  double mass = 0;
+  InsertionReport report;
   const std::uint64_t max_failures = 20000;
   std::uint64_t failures = 0;
-  auto done = [&] { return b.count > 0 ? added >= b.count : mass >= b.mass; };
+  auto done = [&] { return b.count > 0 ? report.placed >= b.count : report.mass >= b.mass; };
   while (!done()) {
-    const double r = r_mean * (1 + b.diameter_spread * (2 * rng.uniform() - 1));
+    const double r = b.shape ? clump_bound : r_mean * (1 + b.diameter_spread * (2 * rng.uniform() - 1));
     const Vec3 x{rng.uniform(lo.x + r, hi.x - r), rng.uniform(lo.y + r, hi.y - r), rng.uniform(lo.z + r, hi.z - r)};
+    const Quat q = b.shape ? random_orientation(rng) : Quat{};
     if (grid.overlaps(x, r, xs, rs)) {
       if (++failures > max_failures) {
         std::ostringstream s;
-        s << b.label << ": the region holds only " << added << " non-overlapping particles (solid fraction "
-          << (mass / density) / vol * 100 << " %) and more are requested; random insertion jams near 38 %. "
-          << "Enlarge the region (e.g. make it taller: the particles settle under gravity).";
+        s << b.label << ": the region holds only " << report.placed << " non-overlapping particles (solid fraction "
+          << (report.mass / density) / vol * 100 << " %) and more are requested; random insertion jams near 38 % "
+          << "of bounding spheres. Enlarge the region (e.g. make it taller: the particles settle under gravity).";
         throw InputError(s.str());
       }
       continue;
@@ -84,11 +97,16 @@ std::uint64_t insert_spheres(Simulation& sim, const SphereBatch& b, Random& rng)
     xs.push_back(x);
     rs.push_back(r);
     grid.add(x, xs.size() - 1);
-    sim.add_sphere(b.material, r, x, b.velocity);
-    mass += density * 4.0 / 3.0 * std::numbers::pi * r * r * r;
-    ++added;
+    if (b.shape) {
+      sim.add_clump(*b.shape, b.material, density, x, q, b.velocity);
+      report.mass += clump_mass;
+    } else {
+      sim.add_sphere(b.material, r, x, b.velocity);
+      report.mass += density * 4.0 / 3.0 * std::numbers::pi * r * r * r;
+    }
+    ++report.placed;
   }
-  return added;
+  return report;
 }
 
 }  // namespace grainscale::dem

@@ -2,6 +2,7 @@
 
 #include <array>
 #include <limits>
+#include <sstream>
 
 #include "dem/input_error.hpp"
 #include "dem/walls/box.hpp"
@@ -45,12 +46,21 @@ WallSpec parse_wall(YamlMap w) {
   return spec;
 }
 
-BatchSpec parse_batch(YamlMap p) {
+BatchSpec parse_batch(YamlMap p, double scale) {
   BatchSpec b;
   b.material = p.string("material");
   b.batch.label = p.file() + ": " + p.path();
-  b.batch.diameter = p.number("diameter", {0, 10, true, false});
-  b.batch.diameter_spread = p.number_or("diameter_spread", 0, {0, 1, false, true});
+  if (p.has("shape")) {
+    // Clumps: the shape file's spheres, scaled by the scenario's particle scale factor.
+    Shape shape = load_shape(resolve_beside(p.file(), p.string("shape")));
+    for (auto& c : shape.spheres) c.center = scale * c.center, c.radius *= scale;
+    b.batch.shape = std::make_shared<const Shape>(std::move(shape));
+    b.particle_mass = p.number_or("particle_mass", 0.0, Range::positive());
+    if (p.has("diameter")) throw InputError(p.where("diameter") + ": give either 'shape' or 'diameter', not both");
+  } else {
+    b.batch.diameter = p.number("diameter", {0, 10, true, false});
+    b.batch.diameter_spread = p.number_or("diameter_spread", 0, {0, 1, false, true});
+  }
   const bool by_count = p.has("count"), by_mass = p.has("mass");
   if (by_count == by_mass) {
     throw InputError(p.where(by_count ? "count" : "mass") + ": give exactly one of 'count' or 'mass'");
@@ -96,7 +106,7 @@ Scenario load_scenario(const std::string& file) {
   if (root.has("walls")) {
     for (YamlMap& w : root.list_of_maps("walls")) s.walls.push_back(parse_wall(w));
   }
-  for (YamlMap& p : root.list_of_maps("particles")) s.particles.push_back(parse_batch(p));
+  for (YamlMap& p : root.list_of_maps("particles")) s.particles.push_back(parse_batch(p, s.settings.scale_factor));
 
   YamlMap out = root.map("output");
   s.output_directory = out.string("directory");
@@ -107,7 +117,7 @@ Scenario load_scenario(const std::string& file) {
   return s;
 }
 
-std::unique_ptr<Simulation> build(const Scenario& s) {
+std::unique_ptr<Simulation> build(const Scenario& s, std::vector<std::string>* report) {
   MaterialTable materials = MaterialTable::load(s.materials_file);
   auto sim = std::make_unique<Simulation>(materials, s.settings);
   for (const WallSpec& w : s.walls) {
@@ -115,9 +125,18 @@ std::unique_ptr<Simulation> build(const Scenario& s) {
   }
   Random rng(s.seed);
   for (const BatchSpec& b : s.particles) {
-    SphereBatch batch = b.batch;
+    ParticleBatch batch = b.batch;
     batch.material = materials.index(b.material, b.batch.label);
-    insert_spheres(*sim, batch, rng);
+    if (b.particle_mass > 0) batch.density = b.particle_mass / union_mass_properties(batch.shape->spheres).volume;
+    const InsertionReport r = insert_particles(*sim, batch, rng);
+    if (report) {
+      std::ostringstream line;
+      line << b.batch.label << ": placed " << r.placed << (batch.shape ? " " + batch.shape->name + " clumps" : " spheres")
+           << ", " << r.mass << " kg, density "
+           << (batch.density > 0 ? batch.density : materials[batch.material].density) << " kg/m^3"
+           << (b.particle_mass > 0 ? " (set from particle_mass " + std::to_string(b.particle_mass) + " kg)" : "");
+      report->push_back(line.str());
+    }
   }
   return sim;
 }

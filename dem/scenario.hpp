@@ -21,7 +21,8 @@ struct WallSpec {
 
 struct BatchSpec {
   std::string material;
-  SphereBatch batch;  // material index filled in by build()
+  ParticleBatch batch;  // material index filled in by build()
+  double particle_mass = 0;  // kg per clump: sets the clump density (reported); 0 = material density
 };
 
 struct Scenario {
@@ -41,7 +42,8 @@ struct Scenario {
 /// Parse and validate; every problem is an InputError naming file, line, key and allowed range.
 Scenario load_scenario(const std::string& file);
 
-/// Materials, walls and inserted particles; call setup() (or step()) next.
-std::unique_ptr<Simulation> build(const Scenario& s);
+/// Materials, walls and inserted particles; call setup() (or step()) next. If `report` is given, one
+/// line per particle batch is appended: how many were placed, their mass, and the density used.
+std::unique_ptr<Simulation> build(const Scenario& s, std::vector<std::string>* report = nullptr);
 
 }  // namespace grainscale::dem

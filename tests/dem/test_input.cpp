@@ -143,3 +143,29 @@ TEST_CASE("Bad scenarios are rejected with file, line, key and range", "[dem][in
   CHECK_THROWS_AS(build(load_scenario(f.scenario.path.string())), InputError);
   CHECK_THROWS_WITH(build(load_scenario(f.scenario.path.string())), Contains(c.expect));
 }
+
+TEST_CASE("A scenario batch with a shape inserts clumps, scaled by the scale factor, randomly oriented",
+          "[dem][input][clump]") {
+  const std::string shapes = GRAINSCALE_SOURCE_DIR "/studies/shapes/";
+  const ScenarioFiles f(replace(replace(kGoodScenario, "name: tiny", "name: tiny\nscale_factor: 2"),
+                                "{material: grain, diameter: 0.004, count: 50,",
+                                "{material: grain, shape: " + shapes + "wheat.yaml, particle_mass: 4.0e-4, count: 20,"));
+  std::vector<std::string> report;
+  auto sim = build(load_scenario(f.scenario.path.string()), &report);
+  REQUIRE(sim->bodies().size() == 20);
+  CHECK(sim->particles().size() == 140);
+  CHECK_THAT(sim->bodies().mass[0], Catch::Matchers::WithinRel(4.0e-4, 1e-12));  // density set from the mass
+  REQUIRE(report.size() == 1);
+  CHECK_THAT(report[0], Contains("placed 20 wheat clumps") && Contains("particle_mass"));
+  // Scaled by 2: the largest sphere is 2 x 1.65 mm.
+  double r_max = 0;
+  for (double r : sim->particles().radius) r_max = std::max(r_max, r);
+  CHECK_THAT(r_max, Catch::Matchers::WithinRel(3.3e-3, 1e-12));
+  // Random orientations: not all the same.
+  CHECK(sim->bodies().q[0].w != sim->bodies().q[1].w);
+  sim->run_steps(10);
+
+  const ScenarioFiles both(replace(kGoodScenario, "{material: grain, diameter: 0.004,",
+                                   "{material: grain, shape: " + shapes + "wheat.yaml, diameter: 0.004,"));
+  CHECK_THROWS_WITH(load_scenario(both.scenario.path.string()), Contains("either 'shape' or 'diameter'"));
+}
