@@ -1,3 +1,4 @@
+#include "dem/parallel.hpp"
 #include "dem/force_field.hpp"
 
 #include <algorithm>
@@ -74,7 +75,7 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
   double worst_ratio = 0;
 
   // Pass 1: every pair once.
-#pragma omp parallel for schedule(dynamic, 128) reduction(+ : contacts) reduction(max : worst_ratio)
+#pragma omp parallel for if(n >= parallel_min_items()) schedule(dynamic, 128) reduction(+ : contacts) reduction(max : worst_ratio)
   for (std::size_t i = 0; i < n; ++i) {
     const Vec3 xi = p.x[i], vi = p.v[i], wi = p.omega[i];
     const double ri = p.radius[i];
@@ -126,7 +127,7 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
   std::int64_t bad = std::numeric_limits<std::int64_t>::max();
   std::int64_t overflow = std::numeric_limits<std::int64_t>::max();
   double worst_wall = 0;
-#pragma omp parallel for schedule(dynamic, 128) reduction(+ : wall_contacts) reduction(min : bad, overflow) \
+#pragma omp parallel for if(n >= parallel_min_items()) schedule(dynamic, 128) reduction(+ : wall_contacts) reduction(min : bad, overflow) \
     reduction(max : worst_wall)
   for (std::size_t i = 0; i < n; ++i) {
     Vec3 f{}, t{};
@@ -205,7 +206,7 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
 void ForceField::permute(const std::vector<std::uint32_t>& new_to_old) {
   const std::size_t n = new_to_old.size();
   wall_scratch_.resize(n * kWallSlots);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for if(n >= parallel_min_items()) schedule(static)
   for (std::size_t i = 0; i < n; ++i)
     for (int s = 0; s < kWallSlots; ++s) wall_scratch_[i * kWallSlots + s] = wall_slots_[new_to_old[i] * kWallSlots + s];
   wall_slots_.swap(wall_scratch_);

@@ -1,3 +1,4 @@
+#include "dem/parallel.hpp"
 #include "dem/neighbor_list.hpp"
 
 #include <algorithm>
@@ -17,7 +18,7 @@ const std::vector<std::uint32_t>& NeighborList::sort_by_cell(const Particles& p,
   const std::size_t n = p.size();
   double lo_x = std::numeric_limits<double>::infinity(), lo_y = lo_x, lo_z = lo_x;
   double hi_x = -lo_x, hi_y = -lo_x, hi_z = -lo_x, r_max = 0;
-#pragma omp parallel for reduction(min : lo_x, lo_y, lo_z) reduction(max : hi_x, hi_y, hi_z, r_max)
+#pragma omp parallel for if(n >= parallel_min_items()) reduction(min : lo_x, lo_y, lo_z) reduction(max : hi_x, hi_y, hi_z, r_max)
   for (std::size_t i = 0; i < n; ++i) {
     lo_x = std::min(lo_x, p.x[i].x), lo_y = std::min(lo_y, p.x[i].y), lo_z = std::min(lo_z, p.x[i].z);
     hi_x = std::max(hi_x, p.x[i].x), hi_y = std::max(hi_y, p.x[i].y), hi_z = std::max(hi_z, p.x[i].z);
@@ -40,7 +41,7 @@ const std::vector<std::uint32_t>& NeighborList::sort_by_cell(const Particles& p,
   const std::size_t cells = static_cast<std::size_t>(nx_) * ny_ * nz_;
 
   cell_index_.resize(n);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for if(n >= parallel_min_items()) schedule(static)
   for (std::size_t i = 0; i < n; ++i) cell_index_[i] = cell_of(p.x[i]);
 
   // Stable counting sort by cell.
@@ -80,7 +81,7 @@ void NeighborList::build(Particles& p, double skin, const std::vector<std::uint3
   };
 
   count_.resize(n);
-#pragma omp parallel for schedule(dynamic, 256)
+#pragma omp parallel for if(n >= parallel_min_items()) schedule(dynamic, 256)
   for (std::size_t i = 0; i < n; ++i) {
     std::uint32_t c = 0;
     for_each_candidate(i, [&](std::uint32_t) { ++c; });
@@ -92,7 +93,7 @@ void NeighborList::build(Particles& p, double skin, const std::vector<std::uint3
   partner_.resize(start_[n]);
   history_.resize(start_[n]);
 
-#pragma omp parallel for schedule(dynamic, 256)
+#pragma omp parallel for if(n >= parallel_min_items()) schedule(dynamic, 256)
   for (std::size_t i = 0; i < n; ++i) {
     std::uint32_t k = start_[i];
     const std::uint32_t oi = carry ? new_to_old[i] : 0;
@@ -120,7 +121,7 @@ void NeighborList::build(Particles& p, double skin, const std::vector<std::uint3
   rev_entry_.resize(partner_.size());
   for (std::uint32_t k = 0; k < partner_.size(); ++k) rev_entry_[rev_fill_[partner_[k]]++] = k;
 
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for if(n >= parallel_min_items()) schedule(static)
   for (std::size_t i = 0; i < n; ++i) p.x_at_build[i] = p.x[i];
   ++builds_;
 }

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "dem/parallel.hpp"
 #include "dem/quaternion.hpp"
 #include "dem/vec3.hpp"
 
@@ -59,7 +60,7 @@ template <class T>
 void permute_array(std::vector<T>& a, std::vector<T>& scratch, const std::vector<std::uint32_t>& new_to_old) {
   scratch.resize(a.size());
   const std::size_t n = a.size();
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for if(n >= parallel_min_items()) schedule(static)
   for (std::size_t i = 0; i < n; ++i) scratch[i] = a[new_to_old[i]];
   a.swap(scratch);
 }

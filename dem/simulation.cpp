@@ -1,3 +1,4 @@
+#include "dem/parallel.hpp"
 #include "dem/simulation.hpp"
 
 #include <algorithm>
@@ -170,7 +171,7 @@ void Simulation::sum_forces_on_bodies() {
   const Particles& p = particles_;
   const std::size_t nb = b.size();
   const Vec3 g = settings_.gravity;
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for if(nb >= parallel_min_items()) schedule(static)
   for (std::size_t k = 0; k < nb; ++k) {
     Vec3 f{}, t{};
     for (std::uint32_t m = b.sphere_start[k]; m < b.sphere_start[k + 1]; ++m) {
@@ -189,7 +190,7 @@ void Simulation::move_spheres_with_bodies(bool positions) {
   const Bodies& b = bodies_;
   const std::size_t n = p.size();
   double moved2 = 0;
-#pragma omp parallel for schedule(static) reduction(max : moved2)
+#pragma omp parallel for if(n >= parallel_min_items()) schedule(static) reduction(max : moved2)
   for (std::size_t s = 0; s < n; ++s) {
     const std::uint32_t k = p.body[s];
     const Vec3 r = rotate(b.q[k], p.offset[s]);
@@ -267,7 +268,7 @@ inline Vec3 body_angular_velocity(const Quat& q, const Vec3& L, const Vec3& iner
 void Simulation::kick(double half_dt) {
   Bodies& b = bodies_;
   const std::size_t n = b.size();
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for if(n >= parallel_min_items()) schedule(static)
   for (std::size_t k = 0; k < n; ++k) {
     b.v[k] += (half_dt * b.inv_mass[k]) * b.force[k];
     b.L[k] += half_dt * b.torque[k];
@@ -281,7 +282,7 @@ void Simulation::step() {
   const std::size_t nb = b.size();
   const double dt = dt_, half = 0.5 * dt_;
   // Half kick and drift of the bodies in one parallel pass.
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for if(nb >= parallel_min_items()) schedule(static)
   for (std::size_t k = 0; k < nb; ++k) {
     b.v[k] += (half * b.inv_mass[k]) * b.force[k];
     b.L[k] += half * b.torque[k];

@@ -2,6 +2,8 @@
 #include <omp.h>
 
 #include <catch2/catch.hpp>
+
+#include "parallel_everything.hpp"
 #include <cmath>
 #include <cstring>
 #include <memory>
@@ -135,6 +137,7 @@ TEST_CASE("A free wheat clump spinning near its intermediate axis tumbles, energ
 }
 
 TEST_CASE("A bed of clumps settles identically on 1 and 2 threads", "[dem][clump][determinism]") {
+  const testing::ParallelEverything guard;  // every loop parallel, however small
   auto run = [](int threads) {
     omp_set_num_threads(threads);
     Simulation sim(grain_and_floor(0.5, 0.35, 0.08), {});

@@ -3,6 +3,8 @@
 #include <omp.h>
 
 #include <catch2/catch.hpp>
+
+#include "parallel_everything.hpp"
 #include <cstring>
 #include <memory>
 #include <vector>
@@ -34,6 +36,7 @@ std::vector<double> settle(int threads, RollingModel model) {
 }  // namespace
 
 TEST_CASE("A run is bitwise identical on 1 and 2 threads", "[dem][determinism]") {
+  const testing::ParallelEverything guard;  // every loop parallel, however small
   const RollingModel model = GENERATE(RollingModel::constant_torque, RollingModel::epsd);
   const auto one = settle(1, model);
   const auto two = settle(2, model);

@@ -4,6 +4,8 @@
 #include <omp.h>
 
 #include <catch2/catch.hpp>
+
+#include "parallel_everything.hpp"
 #include <random>
 #include <set>
 #include <utility>
@@ -57,6 +59,7 @@ void rebuild(Particles& p, NeighborList& nl, double skin) {
 }  // namespace
 
 TEST_CASE("Neighbour list equals the brute-force pair list", "[dem][neighbor]") {
+  const testing::ParallelEverything guard;  // every loop parallel, however small
   const int threads = GENERATE(1, 2, 4);
   omp_set_num_threads(threads);
   const double skin = 0.001;
