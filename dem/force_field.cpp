@@ -11,34 +11,25 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
+/// Contact and rolling parameters for every material pair that is defined.
 template <class Rolling, class MakeRolling>
-auto fill_models(const MaterialTable& mt, MakeRolling make_rolling) {
+ContactModels<Rolling> fill_models(const MaterialTable& mt, MakeRolling make_rolling) {
   const int n = mt.size();
-  struct Out {
-    int materials;
-    std::vector<HertzMindlin::Params> contact;
-    std::vector<typename Rolling::Params> rolling;
-  } out{n, std::vector<HertzMindlin::Params>(n * n), std::vector<typename Rolling::Params>(n * n)};
+  ContactModels<Rolling> m{n, std::vector<HertzMindlin::Params>(n * n), std::vector<typename Rolling::Params>(n * n)};
   for (int a = 0; a < n; ++a)
     for (int b = 0; b < n; ++b) {
       if (!mt.has_pair(a, b)) continue;  // never used: Simulation::setup checks pairs in use
-      out.contact[a * n + b] = HertzMindlin::make(mt[a], mt[b], mt.pair(a, b));
-      out.rolling[a * n + b] = make_rolling(mt.pair(a, b));
+      m.contact[a * n + b] = HertzMindlin::make(mt[a], mt[b], mt.pair(a, b));
+      m.rolling[a * n + b] = make_rolling(mt.pair(a, b));
     }
-  return out;
+  return m;
 }
 
 }  // namespace
 
 void ForceField::setup(const MaterialTable& mt, const std::vector<Wall>& walls, const RollingSettings& rs) {
   auto assign = [&](auto tag, auto make_rolling) {
-    using Rolling = decltype(tag);
-    auto f = fill_models<Rolling>(mt, make_rolling);
-    Models<Rolling> m;
-    m.materials = f.materials;
-    m.contact = std::move(f.contact);
-    m.rolling = std::move(f.rolling);
-    models_ = std::move(m);
+    models_ = fill_models<decltype(tag)>(mt, make_rolling);
   };
   switch (rs.model) {
     case RollingModel::none:
