@@ -60,7 +60,10 @@ void NeighborList::build(Particles& p, double skin, const std::vector<std::uint3
   start_.swap(old_start_);
   partner_.swap(old_partner_);
   history_.swap(old_history_);
-  const bool carry = old_start_.size() == n + 1;
+  // Particles added since the last build sit at slots >= n_old before sorting: they start without
+  // history; every pair of particles that were already there keeps its history.
+  const std::size_t n_old = old_start_.empty() ? 0 : old_start_.size() - 1;
+  const bool carry = n_old > 0 && n_old <= n;
 
   auto for_each_candidate = [&](std::size_t i, auto&& visit) {
     const Vec3 xi = p.x[i];
@@ -100,7 +103,7 @@ void NeighborList::build(Particles& p, double skin, const std::vector<std::uint3
     for_each_candidate(i, [&](std::uint32_t j) {
       partner_[k] = j;
       history_[k] = {};
-      if (carry) {
+      if (carry && oi < n_old) {
         const std::uint32_t oj = new_to_old[j];
         for (std::uint32_t m = old_start_[oi]; m < old_start_[oi + 1]; ++m) {
           if (old_partner_[m] == oj) {

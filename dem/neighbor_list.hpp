@@ -24,7 +24,8 @@ class NeighborList {
   const std::vector<std::uint32_t>& sort_by_cell(const Particles& p, double skin);
 
   /// Build the list for particles already renumbered by sort_by_cell()'s order; `new_to_old` maps the
-  /// new slots to the slots of the previous build so histories can be carried over.
+  /// new slots to the slots of the previous build so histories can be carried over. Particles appended
+  /// since the previous build (slots beyond its count) start without history.
   void build(Particles& p, double skin, const std::vector<std::uint32_t>& new_to_old);
 
   /// True once some particle has moved more than skin/2 since the last build, given the largest

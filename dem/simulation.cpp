@@ -32,10 +32,24 @@ std::uint64_t Simulation::add_body(double mass, const Vec3& inertia, const Vec3&
   const Vec3 wb = to_body(q, omega);
   b.L.push_back(rotate(q, {inertia.x * wb.x, inertia.y * wb.y, inertia.z * wb.z}));
   b.omega.push_back(omega);
-  b.force.push_back({});
+  // Added to a running simulation: it was placed clear of everything, so its weight is its whole
+  // load until the next force computation; the neighbour list notices the new count and rebuilds,
+  // keeping every existing contact history. Before the first step, setup() does it all.
+  b.force.push_back(ready_ ? mass * settings_.gravity : Vec3{});
   b.torque.push_back({});
-  ready_ = false;
   return id;
+}
+
+void Simulation::check_step_for(int material, double radius) const {
+  if (!ready_ || settings_.time_step > 0) return;
+  const double needed = settings_.time_step_fraction * dem::rayleigh_time(radius, materials_[material]);
+  if (needed < dt_ * (1 - 1e-12)) {
+    std::ostringstream m;
+    m << "a " << materials_[material].name << " sphere of radius " << radius << " m added at t = " << time_
+      << " s needs a time step of " << needed << " s, smaller than the running " << dt_
+      << " s; set time.step, or include the smallest particle before the first step";
+    throw InputError(m.str());
+  }
 }
 
 std::uint64_t Simulation::add_sphere(int material, double radius, const Vec3& x, const Vec3& v, const Vec3& omega) {
@@ -43,6 +57,7 @@ std::uint64_t Simulation::add_sphere(int material, double radius, const Vec3& x,
   if (!(radius > 0) || !std::isfinite(radius)) throw InputError("add_sphere: radius must be positive and finite");
   const double m = materials_[material].density * 4.0 / 3.0 * std::numbers::pi * radius * radius * radius;
   const double inertia = 0.4 * m * radius * radius;
+  check_step_for(material, radius);
   const std::uint64_t body = add_body(m, {inertia, inertia, inertia}, x, {}, v, omega, -1);
   const std::size_t s = particles_.add_component(next_sphere_id_++, static_cast<std::uint32_t>(body), material, radius, {},
                                                  m, inertia, m, x);
@@ -63,6 +78,7 @@ std::uint64_t Simulation::add_clump(const Shape& shape, int material, double den
     shape_names_.push_back(shape.name);
     shape_index = static_cast<int>(shape_names_.size()) - 1;
   }
+  for (const auto& c : shape.spheres) check_step_for(material, c.radius);
   const MassProperties mp = union_mass_properties(shape.spheres);
   const double mass = density * mp.volume;
   const Vec3 inertia = density * mp.principal_moments;
@@ -132,7 +148,6 @@ void Simulation::setup() {
   for (double r : particles_.radius) r_max = std::max(r_max, r);
   skin_ = settings_.skin > 0 ? settings_.skin : 0.2 * r_max;
   forces_.setup(materials_, walls_, settings_.rolling);
-  forces_.resize(particles_.size());
   move_spheres_with_bodies(true);
   rebuild();
   compute_forces();
@@ -140,6 +155,7 @@ void Simulation::setup() {
 }
 
 void Simulation::rebuild() {
+  forces_.resize(particles_.size());  // wall-contact slots for particles added since the last build
   const std::vector<std::uint32_t>& order = neighbors_.sort_by_cell(particles_, skin_);
   particles_.permute(order);
   forces_.permute(order);

@@ -55,7 +55,8 @@ class Simulation {
   Simulation(MaterialTable materials, SimulationSettings settings);
 
   /// Add a loose solid sphere of the given material; returns its body id (which is also the id of
-  /// its one sphere when only loose spheres are added).
+  /// its one sphere when only loose spheres are added). Particles may be added to a running
+  /// simulation (pouring): place them clear of the others; contact histories are kept.
   std::uint64_t add_sphere(int material, double radius, const Vec3& x, const Vec3& v = {}, const Vec3& omega = {});
   /// Add a clump of `shape` whose file frame is turned by `orientation` and whose centre of mass is at
   /// `x`. Mass from `density` times the union volume (overlaps counted once). Returns its body id.
@@ -100,6 +101,7 @@ class Simulation {
   void check_health() const;
   std::uint64_t add_body(double mass, const Vec3& inertia, const Vec3& x, const Quat& q, const Vec3& v,
                          const Vec3& omega, int shape);
+  void check_step_for(int material, double radius) const;
   void kick(double half_dt);
   void move_spheres_with_bodies(bool positions);
   void index_spheres_by_body();
