@@ -37,13 +37,18 @@ void DemRun::setup() {
                 fs::copy_options::overwrite_existing);
 
   log(std::string("grainscale ") + version + " (" + git_revision + "), scenario " + scenario_file_);
-  std::vector<std::string> report;
-  sim_ = build(scenario_, &report);
-  for (const std::string& line : report) log(line);
-  sim_->setup();
+  run_ = build(scenario_);
+  for (const std::string& line : run_.report) log(line);
+  for (const Pour& p : run_.pours) {
+    std::ostringstream line;
+    line << p.batch().label << ": pours " << p.batch().mass << " kg during the run";
+    log(line.str());
+  }
+  Simulation& sim = *run_.sim;
+  sim.setup();
   std::ostringstream s;
-  s << sim_->particles().size() << " spheres, " << sim_->walls().size() << " walls; " << sim_->time_step_report()
-    << "; neighbour skin " << sim_->neighbors().skin() << " m";
+  s << sim.particles().size() << " spheres in " << sim.bodies().size() << " bodies, " << sim.walls().size()
+    << " walls; " << sim.time_step_report() << "; neighbour skin " << sim.neighbors().skin() << " m";
   log(s.str());
 }
 
@@ -51,13 +56,13 @@ void DemRun::write_snapshot_now() {
   char name[64];
   std::snprintf(name, sizeof name, "snap_%06zu.h5", snapshots_.size());
   const std::string rel = (fs::path("snapshots") / name).string();
-  write_snapshot(*sim_, (fs::path(out_dir_) / rel).string(), {scenario_.name, scenario_.seed});
-  snapshots_.push_back({sim_->time(), rel, sim_->particles().size()});
+  write_snapshot(*run_.sim, (fs::path(out_dir_) / rel).string(), {scenario_.name, scenario_.seed});
+  snapshots_.push_back({run_.sim->time(), rel, run_.sim->particles().size()});
   write_xdmf_series((fs::path(out_dir_) / "snapshots.xmf").string(), snapshots_);
 }
 
 void DemRun::run() {
-  Simulation& sim = *sim_;
+  Simulation& sim = *run_.sim;
   Progress progress(sim.time(), scenario_.end_time, scenario_.progress_interval, [this](const std::string& l) { log(l); });
   const double interval = scenario_.snapshot_interval;
   double next_snapshot = interval > 0 ? sim.time() : std::numeric_limits<double>::infinity();
@@ -67,22 +72,35 @@ void DemRun::run() {
       write_snapshot_now();
       next_snapshot += interval;
     }
-    sim.step();
+    run_.advance();
     if ((sim.steps() & 63) == 0) progress.update(sim.time(), sim.steps(), sim.particles().size());
+    // Settled: every pour done and the kinetic energy below the scenario's threshold.
+    if (scenario_.settle_kinetic_energy > 0 && (sim.steps() % 100) == 0 && !run_.pouring()) {
+      const Energy e = sim.energy();
+      if (e.kinetic_translation + e.kinetic_rotation < scenario_.settle_kinetic_energy) {
+        std::ostringstream m;
+        m << "settled at t = " << sim.time() << " s: kinetic energy " << e.kinetic_translation + e.kinetic_rotation
+          << " J < " << scenario_.settle_kinetic_energy << " J";
+        log(m.str());
+        break;
+      }
+    }
   }
+  for (const std::string& line : run_.pour_report()) log(line);
   progress.update(sim.time(), sim.steps(), sim.particles().size(), true);
   wall_seconds_ = progress.elapsed();
 }
 
 void DemRun::output() {
   write_snapshot_now();
-  const Simulation& sim = *sim_;
+  const Simulation& sim = *run_.sim;
   const Energy e = sim.energy();
   std::ostringstream y;
   y << "# grainscale dem run summary\n"
     << "scenario: " << scenario_.name << "\n"
     << "code_version: \"" << version << " " << git_revision << "\"\n"
-    << "particles: " << sim.particles().size() << "\n"
+    << "spheres: " << sim.particles().size() << "\n"
+    << "bodies: " << sim.bodies().size() << "\n"
     << "simulated_time_s: " << sim.time() << "\n"
     << "steps: " << sim.steps() << "\n"
     << "time_step_s: " << sim.dt() << "\n"

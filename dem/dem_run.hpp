@@ -24,7 +24,7 @@ class DemRun {
   void run();
   void output();
 
-  const Simulation& simulation() const { return *sim_; }
+  const Simulation& simulation() const { return *run_.sim; }
   const std::string& output_directory() const { return out_dir_; }
 
  private:
@@ -33,7 +33,7 @@ class DemRun {
 
   std::string scenario_file_, out_dir_;
   Scenario scenario_;
-  std::unique_ptr<Simulation> sim_;
+  BuiltScenario run_;
   std::ofstream log_;
   std::vector<XdmfFrame> snapshots_;
   double wall_seconds_ = 0;

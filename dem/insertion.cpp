@@ -84,7 +84,11 @@ InsertionReport insert_particles(Simulation& sim, const ParticleBatch& b, Random
     const Vec3 x{rng.uniform(lo.x + r, hi.x - r), rng.uniform(lo.y + r, hi.y - r), rng.uniform(lo.z + r, hi.z - r)};
     const Quat q = b.shape ? random_orientation(rng) : Quat{};
     if (grid.overlaps(x, r, xs, rs)) {
-      if (++failures > max_failures) {
+      if (b.best_effort && ++failures > max_failures / 20) {
+        report.full = true;
+        return report;
+      }
+      if (!b.best_effort && ++failures > max_failures) {
         std::ostringstream s;
         s << b.label << ": the region holds only " << report.placed << " non-overlapping particles (solid fraction "
           << (report.mass / density) / vol * 100 << " %) and more are requested; random insertion jams near 38 % "

@@ -25,14 +25,17 @@ struct ParticleBatch {
   double mass = 0;                     // kg to insert when count == 0
   Vec3 region_min, region_max;         // the particles lie entirely inside this box
   Vec3 velocity;
+  bool best_effort = false;            // place what fits and return, instead of failing when full
 };
 
 struct InsertionReport {
   std::uint64_t placed = 0;
-  double mass = 0;  // kg
+  double mass = 0;     // kg
+  bool full = false;   // (best effort) the region had no room for the rest
 };
 
-/// Insert the batch. Throws InputError if the region cannot hold it (quoting the solid fraction).
+/// Insert the batch. Throws InputError if the region cannot hold it (quoting the solid fraction),
+/// unless `best_effort`: then it reports `full` and returns what it placed.
 InsertionReport insert_particles(Simulation& sim, const ParticleBatch& batch, Random& rng);
 
 /// A uniformly distributed random orientation (Shoemake 1992, Graphics Gems III).

@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "dem/input_error.hpp"
+#include "dem/time_step.hpp"
 #include "dem/walls/box.hpp"
 #include "dem/walls/cylinder.hpp"
 #include "dem/walls/plane.hpp"
@@ -61,6 +62,9 @@ BatchSpec parse_batch(YamlMap p, double scale) {
     b.batch.diameter = p.number("diameter", {0, 10, true, false});
     b.batch.diameter_spread = p.number_or("diameter_spread", 0, {0, 1, false, true});
   }
+  b.rate = p.number_or("rate", 0.0, Range::positive());
+  b.start = p.number_or("start", 0.0, Range::non_negative());
+  if (b.rate > 0 && p.has("count")) throw InputError(p.where("count") + ": a poured batch ('rate') is given by 'mass'");
   const bool by_count = p.has("count"), by_mass = p.has("mass");
   if (by_count == by_mass) {
     throw InputError(p.where(by_count ? "count" : "mass") + ": give exactly one of 'count' or 'mass'");
@@ -101,6 +105,8 @@ Scenario load_scenario(const std::string& file) {
   s.settings.time_step = t.number_or("step", 0.0, Range::non_negative());
   s.settings.time_step_fraction = t.number_or("step_fraction", 0.2, {0, 1, true, false});
   s.settings.skin = t.number_or("skin", 0.0, Range::non_negative());
+  s.pour_interval = t.number_or("pour_interval", 0.01, Range::positive());
+  s.settle_kinetic_energy = t.number_or("settle_kinetic_energy", 0.0, Range::non_negative());
   t.finish();
 
   if (root.has("walls")) {
@@ -117,28 +123,77 @@ Scenario load_scenario(const std::string& file) {
   return s;
 }
 
-std::unique_ptr<Simulation> build(const Scenario& s, std::vector<std::string>* report) {
+namespace {
+
+/// Smallest component radius a batch can produce.
+double smallest_radius(const ParticleBatch& b) {
+  if (!b.shape) return 0.5 * b.diameter * (1 - b.diameter_spread);
+  double r = 1e300;
+  for (const auto& c : b.shape->spheres) r = std::min(r, c.radius);
+  return r;
+}
+
+}  // namespace
+
+BuiltScenario build(const Scenario& s) {
   MaterialTable materials = MaterialTable::load(s.materials_file);
-  auto sim = std::make_unique<Simulation>(materials, s.settings);
-  for (const WallSpec& w : s.walls) {
-    sim->add_wall(w.name, w.geometry, materials.index(w.material, s.file + ": wall '" + w.name + "'"), w.pose);
+  SimulationSettings settings = s.settings;
+  bool pours = false;
+  for (const BatchSpec& b : s.particles) pours = pours || b.rate > 0;
+  if (pours && settings.time_step == 0) {
+    double t = 1e300;
+    for (const BatchSpec& b : s.particles) {
+      t = std::min(t, rayleigh_time(smallest_radius(b.batch), materials[materials.index(b.material, b.batch.label)]));
+    }
+    settings.time_step = settings.time_step_fraction * t;
+    settings.time_step_note = "automatic over all batches, poured ones included";
   }
-  Random rng(s.seed);
+  BuiltScenario out;
+  out.sim = std::make_unique<Simulation>(materials, settings);
+  out.rng = Random(s.seed);
+  for (const WallSpec& w : s.walls) {
+    out.sim->add_wall(w.name, w.geometry, materials.index(w.material, s.file + ": wall '" + w.name + "'"), w.pose);
+  }
   for (const BatchSpec& b : s.particles) {
     ParticleBatch batch = b.batch;
     batch.material = materials.index(b.material, b.batch.label);
     if (b.particle_mass > 0) batch.density = b.particle_mass / union_mass_properties(batch.shape->spheres).volume;
-    const InsertionReport r = insert_particles(*sim, batch, rng);
-    if (report) {
-      std::ostringstream line;
-      line << b.batch.label << ": placed " << r.placed << (batch.shape ? " " + batch.shape->name + " clumps" : " spheres")
-           << ", " << r.mass << " kg, density "
-           << (batch.density > 0 ? batch.density : materials[batch.material].density) << " kg/m^3"
-           << (b.particle_mass > 0 ? " (set from particle_mass " + std::to_string(b.particle_mass) + " kg)" : "");
-      report->push_back(line.str());
+    if (b.rate > 0) {
+      out.pours.emplace_back(batch, b.rate, b.start, s.pour_interval);
+      continue;
     }
+    const InsertionReport r = insert_particles(*out.sim, batch, out.rng);
+    std::ostringstream line;
+    line << b.batch.label << ": placed " << r.placed << (batch.shape ? " " + batch.shape->name + " clumps" : " spheres")
+         << ", " << r.mass << " kg, density " << (batch.density > 0 ? batch.density : materials[batch.material].density)
+         << " kg/m^3" << (b.particle_mass > 0 ? " (set from particle_mass " + std::to_string(b.particle_mass) + " kg)" : "");
+    out.report.push_back(line.str());
   }
-  return sim;
+  return out;
+}
+
+void BuiltScenario::advance() {
+  for (Pour& p : pours) p.update(*sim, rng);
+  sim->step();
+}
+
+bool BuiltScenario::pouring() const {
+  for (const Pour& p : pours) {
+    if (!p.done()) return true;
+  }
+  return false;
+}
+
+std::vector<std::string> BuiltScenario::pour_report() const {
+  std::vector<std::string> lines;
+  for (const Pour& p : pours) {
+    std::ostringstream line;
+    line << p.batch().label << ": poured " << p.poured_count() << " particles, " << p.poured_mass() << " of "
+         << p.batch().mass << " kg" << (p.done() ? "" : " (not finished)");
+    if (p.waits() > 0) line << "; the region was full " << p.waits() << " times and the pour waited for room";
+    lines.push_back(line.str());
+  }
+  return lines;
 }
 
 }  // namespace grainscale::dem

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "dem/insertion.hpp"
+#include "dem/pour.hpp"
 #include "dem/simulation.hpp"
 
 namespace grainscale::dem {
@@ -23,6 +24,8 @@ struct BatchSpec {
   std::string material;
   ParticleBatch batch;  // material index filled in by build()
   double particle_mass = 0;  // kg per clump: sets the clump density (reported); 0 = material density
+  double rate = 0;           // kg/s: poured during the run from `start`; 0 = all placed at t = 0
+  double start = 0;          // s
 };
 
 struct Scenario {
@@ -34,6 +37,8 @@ struct Scenario {
   std::vector<WallSpec> walls;
   std::vector<BatchSpec> particles;
   double end_time = 0;               // s simulated
+  double pour_interval = 0.01;       // s between pour insertions
+  double settle_kinetic_energy = 0;  // J: stop early once all pours are done and KE is below; 0 = off
   std::string output_directory;      // relative to the working directory unless absolute
   double snapshot_interval = 0;      // s simulated; 0 = only the final state
   double progress_interval = 5;      // s of wall-clock time between progress lines
@@ -42,8 +47,24 @@ struct Scenario {
 /// Parse and validate; every problem is an InputError naming file, line, key and allowed range.
 Scenario load_scenario(const std::string& file);
 
-/// Materials, walls and inserted particles; call setup() (or step()) next. If `report` is given, one
-/// line per particle batch is appended: how many were placed, their mass, and the density used.
-std::unique_ptr<Simulation> build(const Scenario& s, std::vector<std::string>* report = nullptr);
+/// A scenario turned into a running system: the simulation, the pours still going, and the random
+/// numbers they draw from (seeded by the scenario, so runs repeat exactly).
+struct BuiltScenario {
+  std::unique_ptr<Simulation> sim;
+  std::vector<Pour> pours;
+  Random rng{1};
+  std::vector<std::string> report;  // one line per batch placed at t = 0 (count, mass, density)
+
+  /// One step, with the pours inserting what is due first.
+  void advance();
+  bool pouring() const;
+  /// Lines describing each pour so far (placed count, mass, times the region was full).
+  std::vector<std::string> pour_report() const;
+};
+
+/// Materials, walls and the particles placed at t = 0; pours are set up to run with advance().
+/// With an automatic time step and pours, the step is chosen now for the smallest particle of any
+/// batch, so poured particles never need a smaller one.
+BuiltScenario build(const Scenario& s);
 
 }  // namespace grainscale::dem

@@ -121,7 +121,10 @@ double Simulation::rayleigh_time() const {
 std::string Simulation::time_step_report() const {
   std::ostringstream s;
   s << "time step " << dt_ << " s = " << dt_ / rayleigh_time() * 100 << " % of the Rayleigh time " << rayleigh_time()
-    << " s" << (settings_.time_step > 0 ? " (set in the input)" : " (automatic)");
+    << " s ("
+    << (!settings_.time_step_note.empty() ? settings_.time_step_note
+                                          : (settings_.time_step > 0 ? "set in the input" : "automatic"))
+    << ")";
   return s.str();
 }
 

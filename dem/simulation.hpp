@@ -35,6 +35,7 @@ struct SimulationSettings {
   RollingSettings rolling;
   double max_overlap_ratio = 0.3;   // overlap / radius that stops the run as a blow-up
   double scale_factor = 1;          // particle scale factor (metadata, written to every snapshot)
+  std::string time_step_note;       // how a preset time_step was chosen, for the log (optional)
 };
 
 /// Thrown when the state has become unphysical; the message is the diagnosis.

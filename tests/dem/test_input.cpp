@@ -7,6 +7,7 @@
 #include "dem/input_error.hpp"
 #include "dem/material.hpp"
 #include "dem/scenario.hpp"
+#include "dem/time_step.hpp"
 
 using namespace grainscale;
 using namespace grainscale::dem;
@@ -108,7 +109,7 @@ struct ScenarioFiles {
 TEST_CASE("A scenario builds the walls and inserts the particles it describes", "[dem][input]") {
   const ScenarioFiles f(kGoodScenario);
   const Scenario s = load_scenario(f.scenario.path.string());
-  auto sim = build(s);
+  auto sim = std::move(build(s).sim);
   CHECK(sim->particles().size() == 50);
   REQUIRE(sim->walls().size() == 1);
   for (std::size_t i = 0; i < sim->particles().size(); ++i) {
@@ -119,7 +120,7 @@ TEST_CASE("A scenario builds the walls and inserts the particles it describes", 
       CHECK(norm(x - sim->particles().x[j]) >= r + sim->particles().radius[j]);  // no overlaps
     }
   }
-  auto again = build(s);  // same seed, same particles
+  auto again = std::move(build(s).sim);  // same seed, same particles
   CHECK(again->particles().x == sim->particles().x);
   sim->run_steps(10);  // and it runs
 }
@@ -150,8 +151,9 @@ TEST_CASE("A scenario batch with a shape inserts clumps, scaled by the scale fac
   const ScenarioFiles f(replace(replace(kGoodScenario, "name: tiny", "name: tiny\nscale_factor: 2"),
                                 "{material: grain, diameter: 0.004, count: 50,",
                                 "{material: grain, shape: " + shapes + "wheat.yaml, particle_mass: 4.0e-4, count: 20,"));
-  std::vector<std::string> report;
-  auto sim = build(load_scenario(f.scenario.path.string()), &report);
+  BuiltScenario built = build(load_scenario(f.scenario.path.string()));
+  auto& sim = built.sim;
+  const std::vector<std::string>& report = built.report;
   REQUIRE(sim->bodies().size() == 20);
   CHECK(sim->particles().size() == 140);
   CHECK_THAT(sim->bodies().mass[0], Catch::Matchers::WithinRel(4.0e-4, 1e-12));  // density set from the mass
@@ -168,4 +170,21 @@ TEST_CASE("A scenario batch with a shape inserts clumps, scaled by the scale fac
   const ScenarioFiles both(replace(kGoodScenario, "{material: grain, diameter: 0.004,",
                                    "{material: grain, shape: " + shapes + "wheat.yaml, diameter: 0.004,"));
   CHECK_THROWS_WITH(load_scenario(both.scenario.path.string()), Contains("either 'shape' or 'diameter'"));
+}
+
+TEST_CASE("A scenario batch with a rate is poured during the run; the time step covers it from the start",
+          "[dem][input][insertion]") {
+  const ScenarioFiles f(replace(replace(kGoodScenario, "count: 50,", "mass: 0.004, rate: 0.2, start: 0.002,"),
+                                "time: {end: 0.01}", "time: {end: 0.05, pour_interval: 0.005}"));
+  const Scenario s = load_scenario(f.scenario.path.string());
+  BuiltScenario built = build(s);
+  CHECK(built.sim->particles().size() == 0);  // nothing placed at t = 0
+  REQUIRE(built.pours.size() == 1);
+  // The step was chosen for the poured 4 mm grains before any exists.
+  const double expected = 0.2 * rayleigh_time(0.002, built.sim->materials()[0]);
+  CHECK_THAT(built.sim->settings().time_step, Catch::Matchers::WithinRel(expected, 1e-12));
+  while (built.sim->time() < s.end_time) built.advance();
+  CHECK(!built.pouring());
+  CHECK(built.sim->particles().size() > 0);
+  CHECK_THAT(built.pour_report()[0], Contains("poured"));
 }

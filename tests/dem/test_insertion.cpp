@@ -65,3 +65,74 @@ TEST_CASE("A particle that needs a smaller time step cannot be added mid-run", "
   CHECK_THROWS_AS(sim.add_sphere(0, 0.0003, {0.5, 0.5, 0.2}), InputError);
   CHECK_THROWS_WITH(sim.add_sphere(0, 0.0003, {0.5, 0.5, 0.2}), Catch::Matchers::Contains("smaller than the running"));
 }
+
+#include "dem/pour.hpp"
+#include "dem/walls/box.hpp"
+
+namespace {
+
+/// Spheres (6 mm, 1380 kg/m^3: 0.156 g each) poured into an open box 0.1 x 0.1 x 0.2 m.
+struct PourBox {
+  Simulation sim;
+  Random rng{7};
+  PourBox() : sim(materials(), {}) {
+    sim.add_wall("box", std::make_shared<BoxGeometry>(Vec3{0, 0, 0}, Vec3{0.1, 0.1, 0.2}), 1);
+  }
+  static MaterialTable materials() {
+    MaterialTable mt;
+    mt.add({"grain", 1380, 2.6e6, 0.3});
+    mt.add({"wall", 1190, 7.97e8, 0.38});
+    mt.set_pair(0, 0, {0.5, 0.35, 0.08, true});
+    mt.set_pair(0, 1, {0.5, 0.25, 0.01, true});
+    return mt;
+  }
+  ParticleBatch batch(double mass, double region_height) const {
+    ParticleBatch b;
+    b.label = "test pour";
+    b.material = 0;
+    b.diameter = 0.006;
+    b.mass = mass;
+    b.region_min = {0, 0, 0.2 - region_height};
+    b.region_max = {0.1, 0.1, 0.2};
+    return b;
+  }
+};
+
+}  // namespace
+
+TEST_CASE("A pour delivers its mass at the requested rate", "[dem][insertion]") {
+  PourBox box;
+  SimulationSettings st;
+  st.time_step = 1e-4;
+  Simulation sim(PourBox::materials(), st);
+  sim.add_wall("box", std::make_shared<BoxGeometry>(Vec3{0, 0, 0}, Vec3{0.1, 0.1, 0.2}), 1);
+  const double rate = 0.5, interval = 0.01;
+  Pour pour(box.batch(0.05, 0.05), rate, 0.0, interval);
+  const double one = 1380 * 4.0 / 3.0 * M_PI * 0.003 * 0.003 * 0.003;
+  for (int s = 0; s < 1500; ++s) {
+    pour.update(sim, box.rng);
+    sim.step();
+    if (s == 500) {  // t = 0.05 s: between rate * t and rate * (t + interval), within one particle
+      CHECK(pour.poured_mass() >= rate * sim.time() - one);
+      CHECK(pour.poured_mass() <= rate * (sim.time() + interval) + one);
+    }
+  }
+  CHECK(pour.done());
+  CHECK(std::abs(pour.poured_mass() - 0.05) <= one);
+  CHECK(sim.bodies().size() == pour.poured_count());
+}
+
+TEST_CASE("A pour into a region that fills up waits for room and still delivers everything", "[dem][insertion]") {
+  PourBox box;
+  SimulationSettings st;
+  st.time_step = 1e-4;
+  Simulation sim(PourBox::materials(), st);
+  sim.add_wall("box", std::make_shared<BoxGeometry>(Vec3{0, 0, 0}, Vec3{0.1, 0.1, 0.2}), 1);
+  Pour pour(box.batch(0.05, 0.012), 5.0, 0.0, 0.01);  // a thin region: about 100 spheres fit at once
+  for (int s = 0; s < 6000 && !pour.done(); ++s) {
+    pour.update(sim, box.rng);
+    sim.step();
+  }
+  CHECK(pour.waits() > 0);
+  CHECK(pour.done());
+}
