@@ -235,7 +235,34 @@ void check_wall_names(const std::vector<Wall>& walls, const std::string& path) {
   }
 }
 
-void write_particles(hid_t file, const Particles& p, const CreationProperties& props) {
+std::vector<double> flatten(const std::vector<Quat>& q) {
+  std::vector<double> out(4 * q.size());
+  for (std::size_t k = 0; k < q.size(); ++k) out[4 * k] = q[k].w, out[4 * k + 1] = q[k].x, out[4 * k + 2] = q[k].y, out[4 * k + 3] = q[k].z;
+  return out;
+}
+
+std::vector<double> flatten(const std::vector<Vec3>& v) {
+  std::vector<double> out(3 * v.size());
+  for (std::size_t k = 0; k < v.size(); ++k) out[3 * k] = v[k].x, out[3 * k + 1] = v[k].y, out[3 * k + 2] = v[k].z;
+  return out;
+}
+
+/// Bodies are stored in id order already (creation order; only spheres are renumbered).
+void write_bodies(hid_t file, const Bodies& b, const CreationProperties& props) {
+  const std::size_t n = b.size();
+  const Handle g = create_group(file, "bodies", props.group.id());
+  const hid_t dcpl = props.dataset.id();
+  write_dataset(g.id(), "id", b.id, n, 0, dcpl);
+  write_dataset(g.id(), "shape", b.shape, n, 0, dcpl);
+  write_dataset(g.id(), "mass", b.mass, n, 0, dcpl);
+  write_dataset(g.id(), "inertia", flatten(b.inertia), n, 3, dcpl);
+  write_dataset(g.id(), "position", flatten(b.x), n, 3, dcpl);
+  write_dataset(g.id(), "velocity", flatten(b.v), n, 3, dcpl);
+  write_dataset(g.id(), "angular_velocity", flatten(b.omega), n, 3, dcpl);
+  write_dataset(g.id(), "orientation", flatten(b.q), n, 4, dcpl);
+}
+
+void write_particles(hid_t file, const Particles& p, const Bodies& bodies, const CreationProperties& props) {
   // Slot order changes at every neighbour-list rebuild; the file is in id order.
   const std::size_t n = p.size();
   std::vector<std::size_t> order(n);
@@ -258,6 +285,9 @@ void write_particles(hid_t file, const Particles& p, const CreationProperties& p
     return out;
   };
   write_dataset(g.id(), "id", gather(p.id), n, 0, dcpl);
+  std::vector<std::uint64_t> body(n);
+  for (std::size_t k = 0; k < n; ++k) body[k] = bodies.id[p.body[order[k]]];
+  write_dataset(g.id(), "body", body, n, 0, dcpl);
   write_dataset(g.id(), "material", gather(p.material), n, 0, dcpl);
   write_dataset(g.id(), "radius", gather(p.radius), n, 0, dcpl);
   write_dataset(g.id(), "mass", gather(p.mass_share), n, 0, dcpl);
@@ -322,7 +352,9 @@ std::string snapshot_image(const Simulation& sim, const SnapshotInfo& info) {
   write_string_attribute(f, "scenario", info.scenario_name);
   write_scalar_attribute<std::uint64_t>(f, "seed", info.seed);
   write_string_array_attribute(f, "material_names", names);
-  write_particles(f, sim.particles(), props);
+  write_string_array_attribute(f, "shape_names", sim.shape_names());
+  write_particles(f, sim.particles(), sim.bodies(), props);
+  write_bodies(f, sim.bodies(), props);
   write_walls(f, sim.walls(), props);
 
   check(H5Fflush(f, H5F_SCOPE_GLOBAL), "flushing the in-memory file");
@@ -503,6 +535,7 @@ void read_particles(const Reader& r, hid_t file, Snapshot& s) {
   const Handle g = r.open_group(file, "particles");
   std::optional<hsize_t> n;
   s.id = r.dataset<std::uint64_t>(g.id(), "id", 0, n);
+  s.body = r.dataset<std::uint64_t>(g.id(), "body", 0, n);
   s.material = r.dataset<std::int32_t>(g.id(), "material", 0, n);
   s.radius = r.dataset<double>(g.id(), "radius", 0, n);
   s.mass = r.dataset<double>(g.id(), "mass", 0, n);
@@ -526,12 +559,45 @@ void read_particles(const Reader& r, hid_t file, Snapshot& s) {
     std::vector<std::size_t> order(s.id.size());
     std::iota(order.begin(), order.end(), std::size_t{0});
     std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return s.id[a] < s.id[b]; });
-    reorder(s.id, order), reorder(s.material, order), reorder(s.radius, order), reorder(s.mass, order);
+    reorder(s.id, order), reorder(s.body, order), reorder(s.material, order), reorder(s.radius, order),
+        reorder(s.mass, order);
     reorder(s.position, order), reorder(s.velocity, order), reorder(s.angular_velocity, order);
     reorder(s.orientation, order);
   }
   const auto dup = std::adjacent_find(s.id.begin(), s.id.end());
   if (dup != s.id.end()) r.bad("dataset '/particles/id' holds id " + std::to_string(*dup) + " twice");
+}
+
+void read_bodies(const Reader& r, hid_t file, Snapshot& s) {
+  const Handle g = r.open_group(file, "bodies");
+  std::optional<hsize_t> n;
+  s.body_id = r.dataset<std::uint64_t>(g.id(), "id", 0, n);
+  s.body_shape = r.dataset<std::int32_t>(g.id(), "shape", 0, n);
+  s.body_mass = r.dataset<double>(g.id(), "mass", 0, n);
+  s.body_inertia = to_vec3(r.dataset<double>(g.id(), "inertia", 3, n));
+  s.body_position = to_vec3(r.dataset<double>(g.id(), "position", 3, n));
+  s.body_velocity = to_vec3(r.dataset<double>(g.id(), "velocity", 3, n));
+  s.body_angular_velocity = to_vec3(r.dataset<double>(g.id(), "angular_velocity", 3, n));
+  const std::vector<double> q = r.dataset<double>(g.id(), "orientation", 4, n);
+  s.body_orientation.resize(q.size() / 4);
+  for (std::size_t k = 0; k < s.body_orientation.size(); ++k) {
+    s.body_orientation[k] = {q[4 * k], q[4 * k + 1], q[4 * k + 2], q[4 * k + 3]};
+  }
+  if (!std::is_sorted(s.body_id.begin(), s.body_id.end()) ||
+      std::adjacent_find(s.body_id.begin(), s.body_id.end()) != s.body_id.end()) {
+    r.bad("dataset '/bodies/id' must hold distinct ids in ascending order");
+  }
+  for (std::int32_t k : s.body_shape) {
+    if (k < -1 || k >= static_cast<std::int32_t>(s.shape_names.size())) {
+      r.bad("dataset '/bodies/shape' holds index " + std::to_string(k) + ", but 'shape_names' has " +
+            std::to_string(s.shape_names.size()) + " entries");
+    }
+  }
+  for (std::uint64_t b : s.body) {
+    if (!std::binary_search(s.body_id.begin(), s.body_id.end(), b)) {
+      r.bad("dataset '/particles/body' refers to body " + std::to_string(b) + ", which '/bodies/id' lacks");
+    }
+  }
 }
 
 void read_walls(const Reader& r, hid_t file, Snapshot& s) {
@@ -652,7 +718,9 @@ Snapshot read_snapshot(const std::string& path) {
     s.scenario_name = r.string_attribute(root, "/", "scenario", true)[0];
     s.seed = r.scalar_attribute<std::uint64_t>(root, "seed", "uint64 scalar");
     s.material_names = r.string_attribute(root, "/", "material_names", false);
+    s.shape_names = r.string_attribute(root, "/", "shape_names", false);
     read_particles(r, root, s);
+    read_bodies(r, root, s);
     read_walls(r, root, s);
     return s;
   } catch (const Hdf5Failure& e) {

@@ -19,7 +19,7 @@
 namespace grainscale::dem {
 
 /// Version of the file layout written by write_snapshot and the only one read_snapshot accepts.
-inline constexpr int kSnapshotLayoutVersion = 1;
+inline constexpr int kSnapshotLayoutVersion = 2;  // 2: /particles/body and /bodies (clumps)
 /// Value of the root attribute `units`: every quantity in a snapshot is plain SI.
 inline constexpr const char* kSnapshotUnits = "SI: m, kg, s, rad";
 
@@ -58,10 +58,21 @@ struct Snapshot {
   std::vector<std::string> material_names;
 
   std::vector<std::uint64_t> id;
+  std::vector<std::uint64_t> body;  // id of the body each sphere belongs to
   std::vector<std::int32_t> material;
   std::vector<double> radius, mass;
   std::vector<Vec3> position, velocity, angular_velocity;
   std::vector<Quat> orientation;
+
+  /// Rigid bodies (loose spheres and clumps), sorted by id; `body_shape` indexes `shape_names`, -1 for
+  /// a loose sphere.
+  std::vector<std::string> shape_names;
+  std::vector<std::uint64_t> body_id;
+  std::vector<std::int32_t> body_shape;
+  std::vector<double> body_mass;
+  std::vector<Vec3> body_inertia;  // principal moments
+  std::vector<Vec3> body_position, body_velocity, body_angular_velocity;
+  std::vector<Quat> body_orientation;  // principal frame -> world
 
   std::vector<WallPoseRecord> walls;
 };

@@ -1,5 +1,6 @@
 // HDF5 snapshots: exact round trip in id order whatever the slot order, metadata, atomic replacement,
 // input errors that name the file and the object, and the XDMF time series for ParaView.
+#include "dem/shape.hpp"
 #include "dem/snapshot.hpp"
 
 #include <hdf5.h>
@@ -337,8 +338,9 @@ TEST_CASE("read_snapshot reports bad input naming the file and the object", "[de
     CHECK_THAT(read_error(text), Contains(text) && Contains("not an HDF5 file"));
   }
   SECTION("another layout version") {
-    RawFile(file).set_int_attribute("layout_version", 2);
-    CHECK_THAT(read_error(file), Contains(file) && Contains("layout_version") && Contains("2"));
+    RawFile(file).set_int_attribute("layout_version", kSnapshotLayoutVersion + 1);
+    CHECK_THAT(read_error(file), Contains(file) && Contains("layout_version") &&
+                                     Contains(std::to_string(kSnapshotLayoutVersion + 1)));
   }
   SECTION("missing dataset") {
     RawFile(file).remove("/particles/radius");
@@ -447,6 +449,42 @@ TEST_CASE("XDMF series references every snapshot at its time", "[dem][snapshot]"
   series.push_back({std::numeric_limits<double>::quiet_NaN(), "snapshots/x.h5", 7});
   CHECK_THROWS_AS(write_xdmf_series(xmf, series), std::invalid_argument);
   CHECK(slurp(xmf) == text);
+}
+
+}  // namespace grainscale::dem
+
+namespace grainscale::dem {
+
+TEST_CASE("Clumps round-trip: each sphere names its body, bodies carry pose, mass and shape", "[dem][snapshot][clump]") {
+  const TempDir dir;
+  SimulationSettings settings;
+  settings.time_step = 1e-6;
+  settings.gravity = {};
+  Simulation sim(grain_materials(), settings);
+  const Shape wheat = load_shape(GRAINSCALE_SOURCE_DIR "/studies/shapes/wheat.yaml");
+  sim.add_sphere(0, 0.001, {0.02, 0, 0});
+  sim.add_clump(wheat, 1, 1300, {0, 0, 0.01}, axis_angle({0, 1, 0}, 0.4), {0.1, 0, 0}, {0, 0, 5});
+  sim.run_steps(50);
+  const std::string file = dir / "clump.h5";
+  write_snapshot(sim, file, kInfo);
+  const Snapshot s = read_snapshot(file);
+  REQUIRE(s.shape_names == std::vector<std::string>{"wheat"});
+  REQUIRE(s.body_id.size() == 2);
+  CHECK(s.body_shape == std::vector<std::int32_t>{-1, 0});
+  const Bodies& b = sim.bodies();
+  for (std::size_t k = 0; k < 2; ++k) {
+    CHECK(s.body_mass[k] == b.mass[k]);
+    CHECK(s.body_position[k] == b.x[k]);
+    CHECK(s.body_velocity[k] == b.v[k]);
+    CHECK(s.body_inertia[k] == b.inertia[k]);
+    CHECK(s.body_orientation[k].w == b.q[k].w);
+  }
+  REQUIRE(s.body.size() == 8);
+  double clump_mass = 0;
+  for (std::size_t i = 0; i < 8; ++i) {
+    if (s.body[i] == 1) clump_mass += s.mass[i];
+  }
+  CHECK_THAT(clump_mass, Catch::Matchers::WithinRel(b.mass[1], 1e-12));  // sphere shares sum to the clump
 }
 
 }  // namespace grainscale::dem
