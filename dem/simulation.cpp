@@ -120,8 +120,11 @@ double Simulation::rayleigh_time() const {
 
 std::string Simulation::time_step_report() const {
   std::ostringstream s;
-  s << "time step " << dt_ << " s = " << dt_ / rayleigh_time() * 100 << " % of the Rayleigh time " << rayleigh_time()
-    << " s ("
+  s << "time step " << dt_ << " s";
+  if (particles_.size() > 0) {  // (a scenario that only pours starts empty)
+    s << " = " << dt_ / rayleigh_time() * 100 << " % of the Rayleigh time " << rayleigh_time() << " s";
+  }
+  s << " ("
     << (!settings_.time_step_note.empty() ? settings_.time_step_note
                                           : (settings_.time_step > 0 ? "set in the input" : "automatic"))
     << ")";
