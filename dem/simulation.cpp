@@ -251,15 +251,26 @@ void Simulation::check_health() const {
     throw BlowUp(msg.str());
   }
   if (diag_.max_overlap_ratio > settings_.max_overlap_ratio) {
-    // Find the particle (error path only, so a serial search is fine).
+    // Find the particle and what it overlaps (error path only, so a serial search is fine).
     std::int64_t worst = -1;
     double worst_ratio = 0;
+    std::string partner;
+    auto describe = [&](std::size_t j) {
+      std::ostringstream o;
+      o << "particle id " << particles_.id[j] << " (" << materials_[particles_.material[j]].name << ", radius "
+        << particles_.radius[j] << " m, speed " << norm(particles_.v[j]) << " m/s)";
+      return o.str();
+    };
     for (std::size_t i = 0; i < particles_.size(); ++i) {
       for (std::uint32_t k = neighbors_.begin(i); k < neighbors_.end(i); ++k) {
         const std::uint32_t j = neighbors_.partner(k);
         const double ov = particles_.radius[i] + particles_.radius[j] - norm(particles_.x[i] - particles_.x[j]);
         const double r = ov / std::min(particles_.radius[i], particles_.radius[j]);
-        if (r > worst_ratio) worst_ratio = r, worst = static_cast<std::int64_t>(i);
+        if (r > worst_ratio) {
+          const bool i_small = particles_.radius[i] <= particles_.radius[j];
+          worst_ratio = r, worst = static_cast<std::int64_t>(i_small ? i : j);
+          partner = describe(i_small ? j : i);
+        }
       }
       for (const Wall& w : walls_) {
         WallContact wc[ForceField::kWallSlots];
@@ -267,12 +278,16 @@ void Simulation::check_health() const {
         for (int q = 0; q < n; ++q) {
           if (wc[q].overlap / particles_.radius[i] > worst_ratio) {
             worst_ratio = wc[q].overlap / particles_.radius[i], worst = static_cast<std::int64_t>(i);
+            partner = "wall '" + w.name() + "'";
           }
         }
       }
     }
     msg << "overlap of " << diag_.max_overlap_ratio * 100 << " % of the radius (limit "
-        << settings_.max_overlap_ratio * 100 << " %)" << (worst >= 0 ? " at " + where(worst) : std::string())
+        << settings_.max_overlap_ratio * 100 << " %)"
+        << (worst >= 0 ? " at " + where(worst) + " (" + materials_[particles_.material[worst]].name + ", speed " +
+                             std::to_string(norm(particles_.v[worst])) + " m/s) against " + partner
+                       : std::string())
         << ". Likely causes: time step too large (" << time_step_report()
         << "), impact speeds far above what the stiffness allows, or overlapping insertion.";
     throw BlowUp(msg.str());
