@@ -111,6 +111,7 @@ void DemRun::output() {
     << "contacts: " << sim.diagnostics().contacts << "\n"
     << "wall_contacts: " << sim.diagnostics().wall_contacts << "\n"
     << "max_overlap_ratio: " << sim.diagnostics().max_overlap_ratio << "\n"
+    << "max_contact_omega_dt: " << sim.diagnostics().max_omega_dt << "  # at the final step, body masses\n"
     << "kinetic_energy_J: " << e.kinetic_translation + e.kinetic_rotation << "\n"
     << "snapshots: " << snapshots_.size() << "\n";
   write_file_atomically((fs::path(out_dir_) / "summary.yaml").string(), y.str());

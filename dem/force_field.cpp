@@ -63,10 +63,10 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
   resize(n);
 
   std::size_t contacts = 0, wall_contacts = 0;
-  double worst_ratio = 0;
+  double worst_ratio = 0, stiff_pair = 0;  // stiff_*: max S_n / m* (for the omega dt monitor)
 
   // Pass 1: every pair once.
-#pragma omp parallel for if(n >= parallel_min_items()) schedule(dynamic, 128) reduction(+ : contacts) reduction(max : worst_ratio)
+#pragma omp parallel for if(n >= parallel_min_items()) schedule(dynamic, 128) reduction(+ : contacts) reduction(max : worst_ratio, stiff_pair)
   for (std::size_t i = 0; i < n; ++i) {
     const Vec3 xi = p.x[i], vi = p.v[i], wi = p.omega[i];
     const double ri = p.radius[i];
@@ -108,6 +108,7 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
       pair_torque_i_[k] = ti - c.lever_i * nxft;
       pair_torque_j_[k] = tj - c.lever_j * nxft;
       worst_ratio = std::max(worst_ratio, c.overlap / std::min(ri, p.radius[j]));
+      stiff_pair = std::max(stiff_pair, f.stiffness / c.m_eff);
     }
   }
 
@@ -117,9 +118,9 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
   // every wall contact of a settled bed.
   std::int64_t bad = std::numeric_limits<std::int64_t>::max();
   std::int64_t overflow = std::numeric_limits<std::int64_t>::max();
-  double worst_wall = 0;
+  double worst_wall = 0, stiff_wall = 0;
 #pragma omp parallel for if(n >= parallel_min_items()) schedule(dynamic, 128) reduction(+ : wall_contacts) reduction(min : bad, overflow) \
-    reduction(max : worst_wall)
+    reduction(max : worst_wall, stiff_wall)
   for (std::size_t i = 0; i < n; ++i) {
     Vec3 f{}, t{};
     for (std::uint32_t k = nl.begin(i); k < nl.end(i); ++k) {
@@ -175,6 +176,7 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
         t += ti - c.lever_i * cross(c.n, cf.tangential);
         slots[used++] = s;
         worst_wall = std::max(worst_wall, c.overlap / ri);
+        stiff_wall = std::max(stiff_wall, cf.stiffness / c.m_eff);
       }
     }
     wall_contacts += static_cast<std::size_t>(used);
@@ -189,6 +191,7 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
   d.contacts = contacts;
   d.wall_contacts = wall_contacts;
   d.max_overlap_ratio = std::max(worst_ratio, worst_wall);
+  d.max_omega_dt = dt * std::sqrt(std::max(stiff_pair, stiff_wall));
   d.bad_slot = bad == std::numeric_limits<std::int64_t>::max() ? -1 : bad;
   d.slot_overflow = overflow == std::numeric_limits<std::int64_t>::max() ? -1 : overflow;
   return d;

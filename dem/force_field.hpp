@@ -27,7 +27,9 @@ namespace grainscale::dem {
 /// Worst state seen while computing forces; used by the blow-up check.
 struct ForceDiagnostics {
   double max_overlap_ratio = 0;  // max over contacts of overlap / smaller radius
-  std::int64_t worst_slot = -1;  // particle slot with that overlap
+  // max over contacts of omega dt, omega = sqrt(S_n / m*) the contact's normal oscillation frequency
+  // at its current overlap: the step resolves a contact only while this stays well below 1
+  double max_omega_dt = 0;
   std::int64_t bad_slot = -1;    // first slot with a non-finite force or torque, or -1
   std::int64_t slot_overflow = -1;  // first slot with more wall contacts than kWallSlots
   std::size_t contacts = 0;      // particle-particle contacts in force

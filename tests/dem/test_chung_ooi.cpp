@@ -71,6 +71,26 @@ TEST_CASE("Chung & Ooi test 2: elastic normal impact of a sphere with a rigid pl
   CHECK_THAT(got.v1.z, WithinRel(v, 1e-6));
 }
 
+TEST_CASE("The contact-frequency diagnostic equals sqrt(S_n / m*) dt at peak overlap", "[dem][contact]") {
+  // Sphere on a rigid plane (Chung & Ooi test 2 material): at peak overlap delta_max the normal
+  // stiffness is S_n = 2 E* sqrt(R delta_max).
+  const double r = 0.10, v = 0.2;
+  const MaterialTable mt = impact_materials(kAluminiumAlloy, kAluminiumAlloy, 1.0, 0.0);
+  Simulation sim(mt, impact_settings());
+  sim.add_sphere(0, r, {0, 0, r}, {0, 0, -v});
+  sim.add_wall("floor", std::make_shared<PlaneGeometry>(Vec3{0, 0, 0}, Vec3{0, 0, 1}), mt.index("wall"));
+  sim.setup();
+  double worst = 0;
+  for (int s = 0; s < 200000 && sim.particles().v[0].z <= 0; ++s) {
+    sim.step();
+    worst = std::max(worst, sim.diagnostics().max_omega_dt);
+  }
+  const double e_eff = kAluminiumAlloy.youngs / (1 - kAluminiumAlloy.poisson * kAluminiumAlloy.poisson);
+  const double m = sphere_mass(kAluminiumAlloy, r);
+  const double d_max = hertz_max_overlap(r, m, e_eff, v);
+  CHECK_THAT(worst, WithinRel(sim.dt() * std::sqrt(2 * e_eff * std::sqrt(r * d_max) / m), 0.01));
+}
+
 TEST_CASE("Chung & Ooi test 3: normal impact reproduces the coefficient of restitution", "[dem][contact][chung-ooi]") {
   const Solid s = GENERATE(kAluminiumOxide, kCastIron);
   const double e = GENERATE(0.1, 0.5, 0.9);
