@@ -66,6 +66,7 @@ TEST_CASE("A particle that needs a smaller time step cannot be added mid-run", "
   CHECK_THROWS_WITH(sim.add_sphere(0, 0.0003, {0.5, 0.5, 0.2}), Catch::Matchers::Contains("smaller than the running"));
 }
 
+#include "barley_box_fixture.hpp"
 #include "dem/pour.hpp"
 #include "dem/walls/box.hpp"
 
@@ -78,14 +79,7 @@ struct PourBox {
   PourBox() : sim(materials(), {}) {
     sim.add_wall("box", std::make_shared<BoxGeometry>(Vec3{0, 0, 0}, Vec3{0.1, 0.1, 0.2}), 1);
   }
-  static MaterialTable materials() {
-    MaterialTable mt;
-    mt.add({"grain", 1380, 2.6e6, 0.3});
-    mt.add({"wall", 1190, 7.97e8, 0.38});
-    mt.set_pair(0, 0, {0.5, 0.35, 0.08, true});
-    mt.set_pair(0, 1, {0.5, 0.25, 0.01, true});
-    return mt;
-  }
+  static MaterialTable materials() { return testing::barley_perspex(); }
   ParticleBatch batch(double mass, double region_height) const {
     ParticleBatch b;
     b.label = "test pour";
