@@ -76,10 +76,15 @@ namespace {
 struct PourBox {
   Simulation sim;
   Random rng{7};
-  PourBox() : sim(materials(), {}) {
+  PourBox() : sim(materials(), fixed_step()) {
     sim.add_wall("box", std::make_shared<BoxGeometry>(Vec3{0, 0, 0}, Vec3{0.1, 0.1, 0.2}), 1);
   }
   static MaterialTable materials() { return testing::barley_perspex(); }
+  static SimulationSettings fixed_step() {  // the box starts empty: no particle to take a step from
+    SimulationSettings st;
+    st.time_step = 1e-4;
+    return st;
+  }
   ParticleBatch batch(double mass, double region_height) const {
     ParticleBatch b;
     b.label = "test pour";
@@ -96,10 +101,7 @@ struct PourBox {
 
 TEST_CASE("A pour delivers its mass at the requested rate", "[dem][insertion]") {
   PourBox box;
-  SimulationSettings st;
-  st.time_step = 1e-4;
-  Simulation sim(PourBox::materials(), st);
-  sim.add_wall("box", std::make_shared<BoxGeometry>(Vec3{0, 0, 0}, Vec3{0.1, 0.1, 0.2}), 1);
+  Simulation& sim = box.sim;
   const double rate = 0.5, interval = 0.01;
   Pour pour(box.batch(0.05, 0.05), rate, 0.0, interval);
   const double one = 1380 * 4.0 / 3.0 * M_PI * 0.003 * 0.003 * 0.003;
@@ -118,10 +120,7 @@ TEST_CASE("A pour delivers its mass at the requested rate", "[dem][insertion]") 
 
 TEST_CASE("A pour into a region that fills up waits for room and still delivers everything", "[dem][insertion]") {
   PourBox box;
-  SimulationSettings st;
-  st.time_step = 1e-4;
-  Simulation sim(PourBox::materials(), st);
-  sim.add_wall("box", std::make_shared<BoxGeometry>(Vec3{0, 0, 0}, Vec3{0.1, 0.1, 0.2}), 1);
+  Simulation& sim = box.sim;
   Pour pour(box.batch(0.05, 0.012), 5.0, 0.0, 0.01);  // a thin region: about 100 spheres fit at once
   for (int s = 0; s < 6000 && !pour.done(); ++s) {
     pour.update(sim, box.rng);
