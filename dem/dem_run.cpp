@@ -74,6 +74,14 @@ void DemRun::run() {
     }
     run_.advance();
     if ((sim.steps() & 63) == 0) progress.update(sim.time(), sim.steps(), sim.particles().size());
+    if (sim.stability().margin > 1 && !warned_stability_) {
+      // Warn once: the run goes on (a transient squeeze may pass) but the user should know why it may
+      // blow up or why a light particle was shot out.
+      warned_stability_ = true;
+      log("warning: t = " + std::to_string(sim.time()) + " s: " + describe(sim.stability(), sim.bodies()) +
+          ". The time step is too large for this contact network; keep the time step below " +
+          std::to_string(sim.dt() / sim.stability().margin) + " s (now " + std::to_string(sim.dt()) + " s).");
+    }
     // Settled: every pour done and the kinetic energy below the scenario's threshold.
     if (scenario_.settle_kinetic_energy > 0 && (sim.steps() % 100) == 0 && !run_.pouring()) {
       const Energy e = sim.energy();
@@ -112,6 +120,7 @@ void DemRun::output() {
     << "wall_contacts: " << sim.diagnostics().wall_contacts << "\n"
     << "max_overlap_ratio: " << sim.diagnostics().max_overlap_ratio << "\n"
     << "max_contact_omega_dt: " << sim.diagnostics().max_omega_dt << "  # at the final step, body masses\n"
+    << "max_step_stability_margin: " << sim.worst_stability().margin << "  # worst body over the run; > 1 unstable\n"
     << "kinetic_energy_J: " << e.kinetic_translation + e.kinetic_rotation << "\n"
     << "snapshots: " << snapshots_.size() << "\n";
   write_file_atomically((fs::path(out_dir_) / "summary.yaml").string(), y.str());

@@ -37,6 +37,7 @@ class DemRun {
   std::ofstream log_;
   std::vector<XdmfFrame> snapshots_;
   double wall_seconds_ = 0;
+  bool warned_stability_ = false;
 };
 
 }  // namespace grainscale::dem

@@ -68,6 +68,11 @@ class ForceField {
     wall_slots_.resize(n * kWallSlots);
     wall_count_.resize(n);
   }
+  /// Hertz-Mindlin parameters of the material pair (a, b), as the force loop uses them.
+  const HertzMindlin::Params& contact_params(int a, int b) const {
+    return std::visit([&](const auto& m) -> const HertzMindlin::Params& { return m.contact[a * m.materials + b]; },
+                      models_);
+  }
   ContactEnergy contact_energy(const Particles& p, const NeighborList& nl, const std::vector<Wall>& walls) const;
   std::size_t bytes() const;
 

@@ -107,6 +107,7 @@ Scenario load_scenario(const std::string& file) {
   s.settings.skin = t.number_or("skin", 0.0, Range::non_negative());
   s.pour_interval = t.number_or("pour_interval", 0.01, Range::positive());
   s.settle_kinetic_energy = t.number_or("settle_kinetic_energy", 0.0, Range::non_negative());
+  s.settings.stability_interval = static_cast<int>(t.integer_or("stability_interval", 20, 0, 1000000));  // 0: never
   t.finish();
 
   if (root.has("walls")) {

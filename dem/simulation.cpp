@@ -227,7 +227,7 @@ void Simulation::move_spheres_with_bodies(bool positions) {
   if (positions) moved2_ = moved2;
 }
 
-void Simulation::check_health() const {
+void Simulation::check_health() {
   if (diag_.bad_slot < 0 && diag_.slot_overflow < 0 && diag_.max_overlap_ratio <= settings_.max_overlap_ratio) return;
   // Error path only from here: building the message may allocate.
   auto where = [&](std::int64_t s) {
@@ -237,12 +237,20 @@ void Simulation::check_health() const {
       << ", " << x.z << ") m";
     return o.str();
   };
+  auto stability_note = [&] {
+    const StepStability now = check_stability();
+    const StepStability& s = now.margin >= worst_stability_.margin ? now : worst_stability_;
+    return "Per-body check: " + describe(s, bodies_) +
+           (s.margin > 1 ? ". The step is too large for this contact network: lower the time step below " +
+                               std::to_string(dt_ / s.margin) + " s (it is " + std::to_string(dt_) + " s)."
+                         : ".");
+  };
   std::ostringstream msg;
   msg << "t = " << time_ << " s (step " << steps_ << "): ";
   if (diag_.bad_slot >= 0) {
     msg << "non-finite force or torque on " << where(diag_.bad_slot)
         << ". Likely causes: a time step too large for the stiffest contact (" << time_step_report()
-        << "), or particles inserted overlapping.";
+        << "), or particles inserted overlapping. " << stability_note();
     throw BlowUp(msg.str());
   }
   if (diag_.slot_overflow >= 0) {
@@ -289,7 +297,7 @@ void Simulation::check_health() const {
                              std::to_string(norm(particles_.v[worst])) + " m/s) against " + partner
                        : std::string())
         << ". Likely causes: time step too large (" << time_step_report()
-        << "), impact speeds far above what the stiffness allows, or overlapping insertion.";
+        << "), impact speeds far above what the stiffness allows, or overlapping insertion. " << stability_note();
     throw BlowUp(msg.str());
   }
 }
@@ -332,8 +340,15 @@ void Simulation::step() {
   move_spheres_with_bodies(true);
   if (neighbors_.stale(particles_, moved2_)) rebuild();
   compute_forces();
+  if (settings_.stability_interval > 0 && steps_ % settings_.stability_interval == 0) check_stability();
   kick(half);
   move_spheres_with_bodies(false);  // sphere velocities at the full step, for output and diagnostics
+}
+
+const StepStability& Simulation::check_stability() {
+  stability_ = stability_monitor_.assess(particles_, bodies_, neighbors_, walls_, forces_, dt_);
+  if (stability_.margin > worst_stability_.margin) worst_stability_ = stability_;
+  return stability_;
 }
 
 void Simulation::run_steps(std::uint64_t n) {

@@ -23,6 +23,7 @@
 #include "dem/particles.hpp"
 #include "dem/rolling_model.hpp"
 #include "dem/shape.hpp"
+#include "dem/step_stability.hpp"
 #include "dem/wall.hpp"
 
 namespace grainscale::dem {
@@ -36,6 +37,7 @@ struct SimulationSettings {
   double max_overlap_ratio = 0.3;   // overlap / radius that stops the run as a blow-up
   double scale_factor = 1;          // particle scale factor (metadata, written to every snapshot)
   std::string time_step_note;       // how a preset time_step was chosen, for the log (optional)
+  int stability_interval = 20;      // steps between per-body step-stability checks (dem/step_stability.hpp)
 };
 
 /// Thrown when the state has become unphysical; the message is the diagnosis.
@@ -91,6 +93,11 @@ class Simulation {
   const SimulationSettings& settings() const { return settings_; }
   const NeighborList& neighbors() const { return neighbors_; }
   const ForceDiagnostics& diagnostics() const { return diag_; }
+  /// Per-body step stability at the last check, and the worst seen since setup (dem/step_stability.hpp).
+  const StepStability& stability() const { return stability_; }
+  const StepStability& worst_stability() const { return worst_stability_; }
+  /// Check step stability now (also done every settings().stability_interval steps).
+  const StepStability& check_stability();
 
   Energy energy() const;
   /// Bytes of particle, neighbour and contact data (memory report).
@@ -99,7 +106,7 @@ class Simulation {
  private:
   void rebuild();
   void compute_forces();
-  void check_health() const;
+  void check_health();
   std::uint64_t add_body(double mass, const Vec3& inertia, const Vec3& x, const Quat& q, const Vec3& v,
                          const Vec3& omega, int shape);
   void check_step_for(int material, double radius) const;
@@ -117,6 +124,8 @@ class Simulation {
   NeighborList neighbors_;
   ForceField forces_;
   ForceDiagnostics diag_;
+  StepStabilityMonitor stability_monitor_;
+  StepStability stability_, worst_stability_;
   double time_ = 0, dt_ = 0, skin_ = 0;
   std::uint64_t steps_ = 0, next_sphere_id_ = 0;
   double moved2_ = 0;  // largest squared sphere displacement since the last neighbour build

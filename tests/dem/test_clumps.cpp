@@ -158,39 +158,66 @@ TEST_CASE("A bed of clumps settles identically on 1 and 2 threads", "[dem][clump
   CHECK(std::memcmp(one.data(), two.data(), one.size() * sizeof(Vec3)) == 0);
 }
 
-TEST_CASE("A wheat grain landing on a chaff flake: converged at 10 % of the Rayleigh time", "[dem][clump]") {
-  // The report's chaff (100 kg/m^3, G = 1 MPa) at 2x size is a 5.6 mg flake; a 0.4 g wheat grain
-  // landing on it at 2.4 m/s squeezes it against the floor. At the default 20 % of the Rayleigh time
-  // this sandwich goes unstable (the flake is shot out at ~18 m/s); at 10 % and 5 % the results
-  // agree: the flake deforms by 41 % of its radius (real Hertz deformation of so soft a material)
-  // and moves off at 0.68 m/s.
+namespace {
+
+struct Landing {
+  double flake_speed = 0;  // largest speed of the chaff flake, m/s
+  double overlap = 0;      // largest overlap / radius
+  StepStability worst;     // worst per-body step stability seen
+};
+
+/// The report's chaff (100 kg/m^3, G = 1 MPa) at 2x size is a 5.6 mg flake; a 0.4 g wheat grain
+/// lands on it at 2.4 m/s and squeezes it against the floor, nine contacts on one light body.
+Landing land_on_chaff(double fraction) {
   const MaterialTable mt = MaterialTable::load(GRAINSCALE_SOURCE_DIR "/studies/materials/report_table1.yaml");
-  auto land = [&](double fraction) {
-    SimulationSettings st;
-    st.time_step_fraction = fraction;
-    st.max_overlap_ratio = 0.9;
-    Simulation sim(mt, st);
-    Shape wheat = load_shape(GRAINSCALE_SOURCE_DIR "/studies/shapes/wheat.yaml");
-    Shape chaff = load_shape(GRAINSCALE_SOURCE_DIR "/studies/shapes/chaff.yaml");
-    for (Shape* s : {&wheat, &chaff})
-      for (auto& c : s->spheres) c.center = 2.0 * c.center, c.radius *= 2;
-    sim.add_clump(chaff, mt.index("chaff"), 100, {0, 0, 0.0015});
-    sim.add_clump(wheat, mt.index("barley"), 1380, {0.001, 0.0005, 0.0065}, axis_angle({0, 0, 1}, 0.7), {0, 0, -2.4});
-    sim.add_wall("floor", std::make_shared<PlaneGeometry>(Vec3{0, 0, 0}, Vec3{0, 0, 1}), mt.index("perspex"));
-    sim.setup();
-    double speed = 0, overlap = 0;
-    for (int s = 0; s < static_cast<int>(0.02 / sim.dt()); ++s) {
-      sim.step();
-      speed = std::max(speed, norm(sim.bodies().v[0]));
-      overlap = std::max(overlap, sim.diagnostics().max_overlap_ratio);
-    }
-    return std::pair{speed, overlap};
-  };
-  const auto [v10, o10] = land(0.1);
-  const auto [v05, o05] = land(0.05);
-  INFO("10 %: " << v10 << " m/s, " << o10 << "; 5 %: " << v05 << " m/s, " << o05);
-  CHECK_THAT(v10, WithinRel(v05, 0.02));
-  CHECK_THAT(o10, WithinRel(o05, 0.02));
-  CHECK(v05 < 1.0);  // no ejection
-  CHECK(o05 > 0.3);  // deep but physical deformation
+  SimulationSettings st;
+  st.time_step_fraction = fraction;
+  st.max_overlap_ratio = 0.99;
+  st.stability_interval = 1;
+  Simulation sim(mt, st);
+  Shape wheat = load_shape(GRAINSCALE_SOURCE_DIR "/studies/shapes/wheat.yaml");
+  Shape chaff = load_shape(GRAINSCALE_SOURCE_DIR "/studies/shapes/chaff.yaml");
+  for (Shape* s : {&wheat, &chaff})
+    for (auto& c : s->spheres) c.center = 2.0 * c.center, c.radius *= 2;
+  sim.add_clump(chaff, mt.index("chaff"), 100, {0, 0, 0.0015});
+  sim.add_clump(wheat, mt.index("barley"), 1380, {0.001, 0.0005, 0.0065}, axis_angle({0, 0, 1}, 0.7), {0, 0, -2.4});
+  sim.add_wall("floor", std::make_shared<PlaneGeometry>(Vec3{0, 0, 0}, Vec3{0, 0, 1}), mt.index("perspex"));
+  sim.setup();
+  Landing r;
+  for (int s = 0; s < static_cast<int>(0.02 / sim.dt()) && r.flake_speed < 5; ++s) {
+    sim.step();
+    r.flake_speed = std::max(r.flake_speed, norm(sim.bodies().v[0]));
+    r.overlap = std::max(r.overlap, sim.diagnostics().max_overlap_ratio);
+  }
+  r.worst = sim.worst_stability();
+  return r;
+}
+
+}  // namespace
+
+TEST_CASE("A wheat grain landing on a chaff flake: converged at 10 % of the Rayleigh time", "[dem][clump]") {
+  // At 10 % and 5 % of the Rayleigh time the results agree: the flake deforms by 41 % of its radius
+  // (real Hertz deformation of so soft a material) and moves off at 0.68 m/s.
+  const Landing l10 = land_on_chaff(0.1), l05 = land_on_chaff(0.05);
+  INFO("10 %: " << l10.flake_speed << " m/s, " << l10.overlap << "; 5 %: " << l05.flake_speed << " m/s, " << l05.overlap);
+  CHECK_THAT(l10.flake_speed, WithinRel(l05.flake_speed, 0.02));
+  CHECK_THAT(l10.overlap, WithinRel(l05.overlap, 0.02));
+  CHECK(l05.flake_speed < 1.0);  // no ejection
+  CHECK(l05.overlap > 0.3);      // deep but physical deformation
+  CHECK(l10.worst.margin < 1);
+}
+
+TEST_CASE("The per-body step-stability check predicts the chaff sandwich instability", "[dem][clump][stability]") {
+  // At the default 20 % of the Rayleigh time the squeezed flake is shot out; every single contact
+  // is well resolved (omega dt ~ 0.3), but the flake's fastest mode with nine contacts and heavy
+  // damping (e = 0.1 against the floor) is not. At 15 % it stays put.
+  const Landing unstable = land_on_chaff(0.2), stable = land_on_chaff(0.15);
+  INFO("20 %: " << unstable.flake_speed << " m/s, margin " << unstable.worst.margin << "; 15 %: " << stable.flake_speed
+                << " m/s, margin " << stable.worst.margin);
+  CHECK(unstable.flake_speed > 2.0);
+  CHECK(unstable.worst.margin > 1.0);
+  CHECK(unstable.worst.body == 0);  // the flake
+  CHECK(unstable.worst.refined);
+  CHECK(stable.flake_speed < 1.0);
+  CHECK(stable.worst.margin < 1.0);
 }

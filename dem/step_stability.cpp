@@ -1,0 +1,164 @@
+#include "dem/step_stability.hpp"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "dem/rigid_rotation.hpp"
+
+namespace grainscale::dem {
+
+namespace {
+
+/// 1/m + (r x n)^T I^-1 (r x n): inverse effective mass of body k for a push along n at x + r.
+double compliance(const Bodies& b, std::size_t k, const Vec3& r, const Vec3& n) {
+  const Vec3 rn = to_body(b.q[k], cross(r, n));
+  const Vec3& I = b.inertia[k];
+  return b.inv_mass[k] + rn.x * rn.x / I.x + rn.y * rn.y / I.y + rn.z * rn.z / I.z;
+}
+
+double margin_of(double omega_dt, double zeta) { return omega_dt / (2 * (std::sqrt(1 + zeta * zeta) - zeta)); }
+
+}  // namespace
+
+/// Calls visit(body, lever, normal, other_body or -1, other_lever, S_n, c_n) for every contact, once
+/// per pair (the visitor handles both sides).
+template <class Visit>
+void StepStabilityMonitor::for_each_contact(const Particles& p, const Bodies& b, const NeighborList& nl,
+                                            const std::vector<Wall>& walls, const ForceField& forces,
+                                            Visit&& visit) const {
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const std::uint32_t bi = p.body[i];
+    for (std::uint32_t k = nl.begin(i); k < nl.end(i); ++k) {
+      const std::uint32_t j = nl.partner(k);
+      const Vec3 d = p.x[i] - p.x[j];
+      const double rsum = p.radius[i] + p.radius[j];
+      const double dist = norm(d);
+      if (dist >= rsum) continue;
+      const Vec3 n = (1.0 / dist) * d;
+      const double overlap = rsum - dist;
+      const Vec3 point = p.x[i] - (p.radius[i] - 0.5 * overlap) * n;
+      const std::uint32_t bj = p.body[j];
+      const HertzMindlin::Params& hm = forces.contact_params(p.material[i], p.material[j]);
+      const double r_eff = p.radius[i] * p.radius[j] / rsum;
+      const double m_eff = b.mass[bi] * b.mass[bj] / (b.mass[bi] + b.mass[bj]);
+      const double s_n = 2.0 * hm.e_eff * std::sqrt(r_eff * overlap);
+      visit(bi, point - b.x[bi], n, static_cast<std::int64_t>(bj), point - b.x[bj], s_n,
+            hm.damping * std::sqrt(s_n * m_eff));
+    }
+    for (const Wall& w : walls) {
+      WallContact wc[ForceField::kWallSlots];
+      const int found = w.contacts(p.x[i], p.radius[i], wc, ForceField::kWallSlots);
+      for (int q = 0; q < found; ++q) {
+        const HertzMindlin::Params& hm = forces.contact_params(p.material[i], w.material());
+        const double s_n = 2.0 * hm.e_eff * std::sqrt(p.radius[i] * wc[q].overlap);
+        const Vec3 point = p.x[i] - (p.radius[i] - wc[q].overlap) * wc[q].normal;
+        visit(bi, point - b.x[bi], wc[q].normal, std::int64_t{-1}, Vec3{}, s_n,
+              hm.damping * std::sqrt(s_n * b.mass[bi]));
+      }
+    }
+  }
+}
+
+StepStability StepStabilityMonitor::assess(const Particles& p, const Bodies& b, const NeighborList& nl,
+                                           const std::vector<Wall>& walls, const ForceField& forces, double dt) {
+  const std::size_t nb = b.size();
+  omega2_.assign(nb, 0.0);
+  damping_rate_.assign(nb, 0.0);
+  count_.assign(nb, 0);
+
+  // Stage 1: Gershgorin row sums, serial in a fixed order (bitwise reproducible).
+  for_each_contact(p, b, nl, walls, forces,
+                   [&](std::size_t bi, const Vec3& ri, const Vec3& n, std::int64_t bj, const Vec3& rj, double s_n,
+                       double c_n) {
+                     const double ai = compliance(b, bi, ri, n);
+                     const double aj = bj >= 0 ? compliance(b, static_cast<std::size_t>(bj), rj, n) : 0.0;
+                     const double cross_term = std::sqrt(ai * aj);
+                     omega2_[bi] += s_n * (ai + cross_term);
+                     damping_rate_[bi] += c_n * (ai + cross_term);
+                     ++count_[bi];
+                     if (bj >= 0) {
+                       omega2_[bj] += s_n * (aj + cross_term);
+                       damping_rate_[bj] += c_n * (aj + cross_term);
+                       ++count_[bj];
+                     }
+                   });
+
+  StepStability worst;
+  std::size_t suspects = 0;
+  suspect_.assign(nb, -1);
+  for (std::size_t k = 0; k < nb; ++k) {
+    if (count_[k] == 0) continue;
+    const double omega = std::sqrt(omega2_[k]);
+    const double zeta = damping_rate_[k] / (2 * omega);
+    const double margin = margin_of(omega * dt, zeta);
+    if (margin > kRefineAbove) {
+      suspect_[k] = static_cast<int>(suspects++);
+    } else if (margin > worst.margin) {
+      worst = {margin, omega * dt, zeta, static_cast<std::int64_t>(k), count_[k], false};
+    }
+  }
+  if (suspects == 0) return worst;
+
+  // Stage 2: the suspects' own 6-dof modes.
+  if (springs_.size() < suspects) springs_.resize(suspects);
+  for (std::size_t s = 0; s < suspects; ++s) springs_[s].clear();
+  for_each_contact(p, b, nl, walls, forces,
+                   [&](std::size_t bi, const Vec3& ri, const Vec3& n, std::int64_t bj, const Vec3& rj, double s_n,
+                       double c_n) {
+                     const double ai = compliance(b, bi, ri, n);
+                     const double aj = bj >= 0 ? compliance(b, static_cast<std::size_t>(bj), rj, n) : 0.0;
+                     if (suspect_[bi] >= 0) {
+                       const double f = 1 + std::sqrt(aj / ai);
+                       springs_[suspect_[bi]].push_back({n, ri, f * s_n, f * c_n});
+                     }
+                     if (bj >= 0 && suspect_[bj] >= 0) {
+                       const double f = 1 + std::sqrt(ai / aj);
+                       springs_[suspect_[bj]].push_back({n, rj, f * s_n, f * c_n});
+                     }
+                   });
+  using Mat6 = Eigen::Matrix<double, 6, 6>;
+  using Vec6 = Eigen::Matrix<double, 6, 1>;
+  for (std::size_t k = 0; k < nb; ++k) {
+    if (suspect_[k] < 0) continue;
+    // Work in mass-normalised coordinates: K' = M^-1/2 K M^-1/2.
+    const Eigen::Quaterniond q(b.q[k].w, b.q[k].x, b.q[k].y, b.q[k].z);
+    const Eigen::Matrix3d R = q.toRotationMatrix();
+    const Eigen::Vector3d inv_sqrt_I(1 / std::sqrt(b.inertia[k].x), 1 / std::sqrt(b.inertia[k].y),
+                                     1 / std::sqrt(b.inertia[k].z));
+    const Eigen::Matrix3d rot_scale = R * inv_sqrt_I.asDiagonal() * R.transpose();  // I_world^-1/2
+    const double lin_scale = 1 / std::sqrt(b.mass[k]);
+    Mat6 K = Mat6::Zero(), C = Mat6::Zero();
+    for (const Spring& s : springs_[suspect_[k]]) {
+      const Vec3 rn = cross(s.r, s.n);
+      Vec6 j;
+      j.head<3>() = lin_scale * Eigen::Vector3d(s.n.x, s.n.y, s.n.z);
+      j.tail<3>() = rot_scale * Eigen::Vector3d(rn.x, rn.y, rn.z);
+      K += s.stiffness * j * j.transpose();
+      C += s.damping * j * j.transpose();
+    }
+    const Eigen::SelfAdjointEigenSolver<Mat6> eig(K);
+    const double omega = std::sqrt(std::max(eig.eigenvalues()(5), 0.0));
+    const Vec6 phi = eig.eigenvectors().col(5);
+    const double zeta = omega > 0 ? phi.dot(C * phi) / (2 * omega) : 0;
+    const double margin = margin_of(omega * dt, zeta);
+    if (margin > worst.margin) worst = {margin, omega * dt, zeta, static_cast<std::int64_t>(k), count_[k], true};
+  }
+  return worst;
+}
+
+std::string describe(const StepStability& s, const Bodies& b) {
+  std::ostringstream o;
+  o << "step stability margin " << s.margin;
+  if (s.body >= 0) {
+    const auto k = static_cast<std::size_t>(s.body);
+    o << " at body id " << b.id[k] << " (" << b.sphere_start[k + 1] - b.sphere_start[k] << " spheres, mass " << b.mass[k]
+      << " kg, " << s.contacts << " contacts, at (" << b.x[k].x << ", " << b.x[k].y << ", " << b.x[k].z
+      << ") m): Omega dt = " << s.omega_dt << ", damping ratio " << s.zeta << (s.refined ? "" : " (bound)")
+      << "; stable below 1";
+  }
+  return o.str();
+}
+
+}  // namespace grainscale::dem
