@@ -25,6 +25,22 @@ ContactModels<Rolling> fill_models(const MaterialTable& mt, MakeRolling make_rol
   return m;
 }
 
+/// A new contact on feature s.feature of a wall takes over the history of a contact this particle
+/// had last step on an adjacent feature of the same wall that is no longer touched: a sphere rolling
+/// across a mesh edge keeps its tangential spring (no force jump).
+void inherit_history(const WallGeometry& g, const WallSlot* old, int previous, const WallContact* now, int found,
+                     WallSlot& s) {
+  for (int o = 0; o < previous; ++o) {
+    if (old[o].wall != s.wall || !g.continues(old[o].feature, s.feature)) continue;
+    bool still_touched = false;
+    for (int q = 0; q < found; ++q) still_touched |= now[q].feature == old[o].feature;
+    if (!still_touched) {
+      s.history = old[o].history;
+      return;
+    }
+  }
+}
+
 }  // namespace
 
 void ForceField::setup(const MaterialTable& mt, const std::vector<Wall>& walls, const RollingSettings& rs) {
@@ -150,9 +166,11 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
           break;
         }
         WallSlot s{static_cast<std::int32_t>(w), wc[q].feature, {}};
+        bool matched = false;
         for (int o = 0; o < previous; ++o) {
-          if (old[o].wall == s.wall && old[o].feature == s.feature) s.history = old[o].history;
+          if (old[o].wall == s.wall && old[o].feature == s.feature) s.history = old[o].history, matched = true;
         }
+        if (!matched && previous > 0) inherit_history(walls[w].geometry(), old.data(), previous, wc.data(), found, s);
         const WallPose& pose = walls[w].pose();
         ContactKinematics c;
         c.n = wc[q].normal;

@@ -154,6 +154,7 @@ void Simulation::setup() {
   for (double r : particles_.radius) r_max = std::max(r_max, r);
   skin_ = settings_.skin > 0 ? settings_.skin : 0.2 * r_max;
   forces_.setup(materials_, walls_, settings_.rolling);
+  for (Wall& w : walls_) w.move_to(time_);
   move_spheres_with_bodies(true);
   rebuild();
   compute_forces();
@@ -337,6 +338,7 @@ void Simulation::step() {
   }
   time_ += dt;
   ++steps_;
+  for (Wall& w : walls_) w.move_to(time_);
   move_spheres_with_bodies(true);
   if (neighbors_.stale(particles_, moved2_)) rebuild();
   compute_forces();

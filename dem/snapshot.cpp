@@ -318,6 +318,8 @@ void write_walls(hid_t file, const std::vector<Wall>& walls, const CreationPrope
     write_vector_attribute(wg.id(), "velocity", {pose.velocity.x, pose.velocity.y, pose.velocity.z});
     write_vector_attribute(wg.id(), "angular_velocity",
                            {pose.angular_velocity.x, pose.angular_velocity.y, pose.angular_velocity.z});
+    write_scalar_attribute<std::int32_t>(wg.id(), "moving", w.moving() ? 1 : 0);
+    write_scalar_attribute<double>(wg.id(), "motion_phase", w.phase());
   }
 }
 
@@ -631,6 +633,11 @@ void read_walls(const Reader& r, hid_t file, Snapshot& s) {
     w.orientation = {q[0], q[1], q[2], q[3]};
     w.velocity = vec("velocity");
     w.angular_velocity = vec("angular_velocity");
+    // Added in the same layout version: absent in files from before motion existed.
+    if (H5Aexists(wg.id(), "motion_phase") > 0) {
+      w.motion_phase = r.numeric_attribute<double>(wg.id(), where, "motion_phase", 1, "float64")[0];
+      w.moving = r.numeric_attribute<std::int32_t>(wg.id(), where, "moving", 1, "int32")[0] != 0;
+    }
     s.walls.push_back(std::move(w));
   }
 }

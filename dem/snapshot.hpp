@@ -43,6 +43,8 @@ struct WallPoseRecord {
   Quat orientation;
   Vec3 velocity;
   Vec3 angular_velocity;
+  bool moving = false;       // has a prescribed motion
+  double motion_phase = 0;   // position in the motion cycle, [0, 1)
 };
 
 /// Contents of a snapshot file. Particle arrays all have the same length and are sorted by id

@@ -1,11 +1,12 @@
 #pragma once
-// A wall is a geometry plus a pose (and later a motion): the geometry answers "which of my features
-// touch this sphere?" in its own body frame, the pose carries points and velocities between body and
-// world frames. Meshes and moving containers (issue 4) plug in here: a new geometry is one class
-// implementing WallGeometry; a motion profile updates the pose each step.
+// A wall is a geometry plus a pose plus, optionally, a motion: the geometry answers "which of my
+// features touch this sphere?" in its own body frame, the pose carries points and velocities between
+// body and world frames, and a motion profile (dem/motion_profile.hpp) moves the pose each step. A
+// new geometry is one class implementing WallGeometry; a new motion one implementing MotionProfile.
 #include <memory>
 #include <string>
 
+#include "dem/motion_profile.hpp"
 #include "dem/quaternion.hpp"
 #include "dem/uninitialized_array.hpp"
 #include "dem/vec3.hpp"
@@ -28,6 +29,9 @@ class WallGeometry {
   /// Axis-aligned bounds in the body frame (used for domain checks and output).
   virtual void bounds(Vec3& lo, Vec3& hi) const = 0;
   virtual std::string describe() const = 0;
+  /// May the tangential history of a contact on feature `from` carry over to `to` when the sphere
+  /// slides from one to the other in one step (adjacent mesh triangles)? Default: no.
+  virtual bool continues(int /*from*/, int /*to*/) const { return false; }
 };
 
 /// Where the wall is and how its frame moves: x_world = origin + R(q) x_body; the surface velocity at
@@ -43,6 +47,13 @@ struct WallPose {
   Vec3 surface_velocity(const Vec3& p) const { return velocity + cross(angular_velocity, p - origin); }
 };
 
+/// A prescribed motion applied to a wall about a pivot (world frame, at rest): a point at x0 when
+/// at rest is at pivot + d(t) + R(t) (x0 - pivot) at time t.
+struct WallMotion {
+  std::shared_ptr<const MotionProfile> profile;
+  Vec3 pivot;
+};
+
 /// A wall contact in world coordinates.
 struct WallContact {
   Vec3 normal;          // from wall to sphere centre
@@ -54,7 +65,7 @@ struct WallContact {
 class Wall {
  public:
   Wall(std::string name, std::shared_ptr<const WallGeometry> geometry, int material, WallPose pose = {})
-      : name_(std::move(name)), geometry_(std::move(geometry)), material_(material), pose_(pose) {}
+      : name_(std::move(name)), geometry_(std::move(geometry)), material_(material), rest_(pose), pose_(pose) {}
 
   /// Contacts of a sphere (centre c, radius r) with this wall; returns the count written to `out`.
   int contacts(const Vec3& c, double r, WallContact* out, int cap) const {
@@ -72,13 +83,35 @@ class Wall {
   const WallGeometry& geometry() const { return *geometry_; }
   int material() const { return material_; }
   const WallPose& pose() const { return pose_; }
-  void set_pose(const WallPose& p) { pose_ = p; }
+  void set_pose(const WallPose& p) { pose_ = rest_ = p; }
+
+  /// Give the wall a prescribed motion (relative to its pose at rest, which is its current pose).
+  void set_motion(WallMotion m) { motion_ = std::move(m); }
+  bool moving() const { return motion_.profile != nullptr; }
+  const WallMotion& motion() const { return motion_; }
+  /// Motion phase in [0, 1) at the last move_to (0 without a motion).
+  double phase() const { return phase_; }
+
+  /// Put the wall where its motion has it at time t: origin = pivot + d + R (o_rest - pivot),
+  /// orientation = R q_rest, and the body-frame origin moves with d' + omega x (origin - pivot - d).
+  void move_to(double t) {
+    if (!motion_.profile) return;
+    const RigidMotionState s = motion_.profile->at(t);
+    const Vec3 arm = rotate(s.rotation, rest_.origin - motion_.pivot);
+    pose_.origin = motion_.pivot + s.displacement + arm;
+    pose_.orientation = s.rotation * rest_.orientation;
+    pose_.angular_velocity = s.angular_velocity;
+    pose_.velocity = s.velocity + cross(s.angular_velocity, arm);
+    phase_ = s.phase;
+  }
 
  private:
   std::string name_;
   std::shared_ptr<const WallGeometry> geometry_;
   int material_;
-  WallPose pose_;
+  WallPose rest_, pose_;
+  WallMotion motion_;
+  double phase_ = 0;
 };
 
 }  // namespace grainscale::dem
