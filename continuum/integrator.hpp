@@ -1,0 +1,42 @@
+#pragma once
+// Time integration of the semi-discrete model (model.hpp) behind one interface, so SUNDIALS and the
+// home-made integrator can be swapped and cross-checked (tests/continuum/test_integrators.cpp).
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "continuum/model.hpp"
+
+namespace grainscale::continuum {
+
+struct IntegratorSettings {
+  std::string method = "cvode";  // "cvode" (BDF, band Jacobian) or "ssp_rk3" (explicit)
+  double rtol = 1e-6;            // cvode: relative tolerance
+  double atol = 1e-9;            // cvode: absolute tolerance on c
+  double cfl = 0.4;              // ssp_rk3: dt = cfl / max_rate
+  double max_dt = 0;             // both: upper bound on the step, 0 = none
+  long max_steps = 1000000;      // per advance() call
+};
+
+struct IntegratorStats {
+  long steps = 0;
+  long rhs_evaluations = 0;
+  long jacobian_evaluations = 0;  // cvode only
+};
+
+class TimeIntegrator {
+ public:
+  virtual ~TimeIntegrator() = default;
+  /// Advance c from t0 to t1. t1 is a stop time: no step passes it, so the forcing may change there.
+  virtual void advance(double t0, double t1, std::vector<double>& c) = 0;
+  /// The forcing jumps at the current time (a pause or switch of the motion): forget the history.
+  virtual void restart() = 0;
+  virtual std::string name() const = 0;
+  virtual IntegratorStats stats() const = 0;
+};
+
+const std::vector<std::string>& integrator_names();
+/// The integrator keeps a reference to `model`, which must outlive it.
+std::unique_ptr<TimeIntegrator> make_integrator(const IntegratorSettings& settings, const Model& model);
+
+}  // namespace grainscale::continuum
