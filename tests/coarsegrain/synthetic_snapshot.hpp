@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <numbers>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "dem/snapshot.hpp"
@@ -40,6 +41,35 @@ inline void add_sphere(dem::Snapshot& s, int material, double r, double rho, dem
   s.body_inertia.push_back({});
   s.body_position.push_back(x);
   s.body_velocity.push_back(v);
+  s.body_angular_velocity.push_back({});
+  s.body_orientation.push_back({});
+}
+
+/// Append a clump: spheres (centre, radius) of one material and density sharing one body at
+/// `body_position`; each sphere carries the clump's mass shared in proportion to r^3, as in a snapshot.
+inline void add_clump(dem::Snapshot& s, int material, double rho, const std::vector<std::pair<dem::Vec3, double>>& spheres,
+                      dem::Vec3 body_position) {
+  const std::uint64_t body = 1000000 + s.body_id.size();  // never a loose sphere's id (those are sphere ids)
+  double r3 = 0;
+  for (const auto& sp : spheres) r3 += sp.second * sp.second * sp.second;
+  const double mass = rho * 4.0 / 3.0 * kPi * r3;  // overlaps ignored: a test clump
+  for (const auto& [x, r] : spheres) {
+    s.id.push_back(s.id.empty() ? 1 : s.id.back() + 1);
+    s.body.push_back(body);
+    s.material.push_back(material);
+    s.radius.push_back(r);
+    s.mass.push_back(mass * r * r * r / r3);
+    s.position.push_back(x);
+    s.velocity.push_back({});
+    s.angular_velocity.push_back({});
+    s.orientation.push_back({});
+  }
+  s.body_id.push_back(body);
+  s.body_shape.push_back(0);
+  s.body_mass.push_back(mass);
+  s.body_inertia.push_back({});
+  s.body_position.push_back(body_position);
+  s.body_velocity.push_back({});
   s.body_angular_velocity.push_back({});
   s.body_orientation.push_back({});
 }
