@@ -6,7 +6,10 @@
 
 #include "dem/input_error.hpp"
 #include "dem/time_step.hpp"
+#include "dem/container_meshes.hpp"
+#include "dem/motion/motion_from_yaml.hpp"
 #include "dem/walls/box.hpp"
+#include "dem/walls/mesh.hpp"
 #include "dem/walls/cylinder.hpp"
 #include "dem/walls/plane.hpp"
 #include "dem/yaml_map.hpp"
@@ -15,27 +18,60 @@ namespace grainscale::dem {
 
 namespace {
 
-WallSpec parse_wall(YamlMap w) {
+std::array<bool, 6> closed_faces(YamlMap& w) {
+  std::array<bool, 6> closed{true, true, true, true, true, true};
+  const std::vector<std::string> faces{"-x", "+x", "-y", "+y", "-z", "+z"};
+  for (const std::string& face : w.choices_or_empty("open", faces)) {
+    for (int f = 0; f < 6; ++f) {
+      if (faces[f] == face) closed[f] = false;
+    }
+  }
+  return closed;
+}
+
+WallSpec parse_wall(YamlMap w, double end_time) {
   WallSpec spec;
   spec.name = w.string("name");
   spec.material = w.string("material");
-  const std::string type = w.choice("type", {"plane", "box", "cylinder"});
+  const std::string type =
+      w.choice("type", {"plane", "box", "cylinder", "stl", "box_mesh", "pipe", "tray", "cylinder_mesh"});
   spec.pose.origin = w.vec3_or("origin", {});
-  if (type == "plane") {
+  if (auto m = w.optional_map("motion")) {
+    spec.motion.profile = motion_from_yaml(*m, end_time);
+    spec.motion.pivot = w.vec3_or("pivot", {});
+  } else if (w.has("pivot")) {
+    throw InputError(w.where("pivot") + " is only meaningful with 'motion'");
+  }
+  const std::string label = w.file() + ": wall '" + spec.name + "'";
+  auto mesh_wall = [&](TriangleMesh mesh) {
+    spec.geometry = std::make_shared<MeshGeometry>(std::move(mesh), w.number_or("cell_size", 0.0, Range::non_negative()),
+                                                   label);
+  };
+  auto segments = [&] { return static_cast<int>(w.integer_or("segments", 64, 8, 4096)); };
+  if (type == "stl") {
+    mesh_wall(load_stl(resolve_beside(w.file(), w.string("file")), w.number_or("scale", 1.0, Range::positive())));
+  } else if (type == "box_mesh") {
+    const Vec3 lo = w.vec3("min"), hi = w.vec3("max");
+    if (!(hi.x > lo.x && hi.y > lo.y && hi.z > lo.z)) throw InputError(w.where("max") + " must exceed 'min' in x, y and z");
+    mesh_wall(box_mesh(lo, hi, closed_faces(w), static_cast<int>(w.integer_or("compartments", 1, 1, 1000))));
+  } else if (type == "pipe") {
+    const double r = w.number("radius", Range::positive()), len = w.number("length", Range::positive());
+    mesh_wall(pipe_mesh(r, len, segments()));
+  } else if (type == "tray") {
+    const double r = w.number("radius", Range::positive());
+    mesh_wall(tray_mesh(r, w.number_or("rim_height", 0.0, Range::non_negative()), segments()));
+  } else if (type == "cylinder_mesh") {
+    const double r = w.number("radius", Range::positive()), h = w.number("height", Range::positive());
+    const bool bottom = w.boolean_or("bottom", true), top = w.boolean_or("top", false);
+    mesh_wall(cylinder_mesh(r, h, segments(), bottom, top));
+  } else if (type == "plane") {
     const Vec3 normal = w.vec3("normal");
     if (norm(normal) == 0) throw InputError(w.where("normal") + " must not be the zero vector");
     spec.geometry = std::make_shared<PlaneGeometry>(w.vec3_or("point", {}), normal);
   } else if (type == "box") {
     const Vec3 lo = w.vec3("min"), hi = w.vec3("max");
     if (!(hi.x > lo.x && hi.y > lo.y && hi.z > lo.z)) throw InputError(w.where("max") + " must exceed 'min' in x, y and z");
-    std::array<bool, 6> closed{true, true, true, true, true, true};
-    const std::vector<std::string> faces{"-x", "+x", "-y", "+y", "-z", "+z"};
-    for (const std::string& face : w.choices_or_empty("open", faces)) {
-      for (int f = 0; f < 6; ++f) {
-        if (faces[f] == face) closed[f] = false;
-      }
-    }
-    spec.geometry = std::make_shared<BoxGeometry>(lo, hi, closed);
+    spec.geometry = std::make_shared<BoxGeometry>(lo, hi, closed_faces(w));
   } else {
     const double radius = w.number("radius", Range::positive());
     const double height = w.number("height", Range::positive());
@@ -111,7 +147,7 @@ Scenario load_scenario(const std::string& file) {
   t.finish();
 
   if (root.has("walls")) {
-    for (YamlMap& w : root.list_of_maps("walls")) s.walls.push_back(parse_wall(w));
+    for (YamlMap& w : root.list_of_maps("walls")) s.walls.push_back(parse_wall(w, s.end_time));
   }
   for (YamlMap& p : root.list_of_maps("particles")) s.particles.push_back(parse_batch(p, s.settings.scale_factor));
 
@@ -154,6 +190,7 @@ BuiltScenario build(const Scenario& s) {
   out.rng = Random(s.seed);
   for (const WallSpec& w : s.walls) {
     out.sim->add_wall(w.name, w.geometry, materials.index(w.material, s.file + ": wall '" + w.name + "'"), w.pose);
+    if (w.motion.profile) out.sim->walls().back().set_motion(w.motion);
   }
   for (const BatchSpec& b : s.particles) {
     ParticleBatch batch = b.batch;

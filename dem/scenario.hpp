@@ -18,6 +18,7 @@ struct WallSpec {
   std::string material;
   std::shared_ptr<const WallGeometry> geometry;
   WallPose pose;
+  WallMotion motion;  // no profile: the wall stays put
 };
 
 struct BatchSpec {
