@@ -3,7 +3,7 @@
 // mixture, on the grid. Cells without any mass have undefined velocities, concentrations and
 // temperatures; those are NaN (ParaView shows them as blank), densities there are 0.
 //
-// Definitions (u = j / rho is the mass-weighted velocity, Goldhirsch 2010 eq. 7):
+// Definitions (u = j / rho is the mass-weighted velocity, Goldhirsch 2010):
 //   volume fraction phi_s, partial density rho_s, number density n_s    straight from the moments
 //   chaff concentration by volume   c   = sum_{chaff} phi_s / phi        (phi: mixture)
 //                       by number   c_n = sum_{chaff} n_s / n
@@ -11,9 +11,10 @@
 //   velocity                        u_s = j_s / rho_s (partial), u = j / rho (mixture)
 //   granular temperature            T_s = f_s / (3 rho_s), T = f / (3 rho)   (m^2/s^2)
 //       f is the fluctuation density of the moments: the mass-weighted mean square deviation of the
-//       particle velocities from the cell's velocity, 3 T per unit mass (Goldhirsch 2010 eq. 14, the
-//       kinetic stress' trace). For a window or phase average it is taken about the averaged velocity,
-//       so it includes the snapshot-to-snapshot fluctuations (Weinhart et al. 2012, section 4).
+//       particle velocities from the cell's velocity, 3 T per unit mass (the trace of the kinetic
+//       stress of Goldhirsch 2010). For a window or phase average it is taken about the averaged
+//       velocity, so it includes the snapshot-to-snapshot fluctuations (as does the time-averaged
+//       kinetic stress of Weinhart et al. 2013).
 //   velocity gradient               L_ab = d u_a / d x_b of the mixture velocity, by central
 //       differences between neighbouring cells (one-sided at the grid's edge or next to an empty
 //       cell, NaN with no occupied neighbour); zero along averaged axes.

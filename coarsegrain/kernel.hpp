@@ -1,8 +1,8 @@
 #pragma once
 // Coarse-graining kernels and their cell-integrated weights.
 //
-// A particle's mass m at x_p contributes m * W(x - x_p) to the density (Goldhirsch 2010, eq. 5;
-// Weinhart et al. 2012, eq. 2). Point-sampling W at cell centres (as MercuryDPM does) conserves mass
+// A particle's mass m at x_p contributes m * W(x - x_p) to the density (Goldhirsch 2010;
+// Weinhart et al. 2012). Point-sampling W at cell centres (as MercuryDPM does) conserves mass
 // only approximately (1e-2 to 1e-3 next to walls). Here the weight of a cell is the integral of W over
 // the cell, so that sum over cells of (density x cell volume) = sum of m exactly, up to rounding.
 //
@@ -13,14 +13,14 @@
 //             (its 3-D product is the isotropic Gaussian inside the cube |s_i| < 3w);
 //             cell integral by erf.
 //   lucy:     W1(s) = 5/(4c) (1 + 3|s|/c) (1 - |s|/c)^3 for |s| < c (Lucy 1977; the 1-D form used by
-//             Weinhart et al. 2012, eq. 27), cell integral by its polynomial antiderivative
+//             Weinhart et al. 2012), cell integral by its polynomial antiderivative
 //             G(t) = t - 2t^3 + 2t^4 - 3t^5/5, t = |s|/c. The 3-D kernel is the product of 1-D Lucy
 //             kernels, not the radial 3-D Lucy kernel.
 //
 // `width` w is the standard deviation of W1 for both kernels, so both smooth alike: the Gaussian is
 // cut off at 3w, Lucy at c = sqrt(10.5) w (the variance of W1 is c^2 / 10.5).
 //
-// Boundaries (Weinhart et al. 2016, "From discrete particles to continuum fields near a boundary"):
+// Boundaries (Weinhart et al. 2012, "From discrete particles to continuum fields near a boundary"):
 // the part of a particle's kernel beyond a wall of the box is either reflected back into the box
 // (image particle at 2 lo - x_p, resp. 2 hi - x_p: a uniform bed then stays uniform up to the wall),
 // or the weights inside are simply rescaled to sum to one ("renormalise"). Either way the 1-D weights

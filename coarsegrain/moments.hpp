@@ -2,8 +2,8 @@
 // The kernel sums from which every field is derived, per species and for the mixture, per cell.
 //
 // For a cell c of volume V_c and particle weights W_pc (the cell integral of the kernel, summing to one
-// over cells for every particle; coarsegrain/kernel.hpp), following Goldhirsch 2010 (eqs. 5, 6, 14)
-// and Weinhart et al. 2012 (eqs. 2, 3, 9) in their cell-averaged form:
+// over cells for every particle; coarsegrain/kernel.hpp), following Goldhirsch 2010
+// and Weinhart et al. 2012 (full references in docs/coarsegrain_layout.md), in cell-integrated form:
 //
 //   partial density        rho_s = sum_{p in s} m_p W_pc / V_c                      kg/m^3
 //   partial volume frac.   phi_s = sum_{p in s} V_p W_pc / V_c                      -
