@@ -49,22 +49,28 @@ void axis_weights(const Kernel& kernel, const Grid& grid, int axis, double x, Ax
   const int first = std::clamp(static_cast<int>(std::floor((x - c - lo) / h)), 0, n - 1);
   const int last = std::clamp(static_cast<int>(std::floor((x + c - lo) / h)), 0, n - 1);
   out.first = first;
-  const bool reflect = kernel.boundary == Boundary::reflect;
+  // Images only matter for a particle within one cut-off of a wall; elsewhere they add exact zeros.
+  const bool reflect_lo = kernel.boundary == Boundary::reflect && x - lo < c;
+  const bool reflect_hi = kernel.boundary == Boundary::reflect && hi - x < c;
   const double image_lo = 2 * lo - x, image_hi = 2 * hi - x;
   double sum = 0;
   // The cdf at each edge is computed once and differenced, so adjacent cells share edge values.
   double f_direct = kernel.cdf(grid.edge(axis, first) - x);
-  double f_lo = kernel.cdf(grid.edge(axis, first) - image_lo);
-  double f_hi = kernel.cdf(grid.edge(axis, first) - image_hi);
+  double f_lo = reflect_lo ? kernel.cdf(grid.edge(axis, first) - image_lo) : 0.0;
+  double f_hi = reflect_hi ? kernel.cdf(grid.edge(axis, first) - image_hi) : 0.0;
   for (int i = first; i <= last; ++i) {
     const double b = grid.edge(axis, i + 1);
     const double g_direct = kernel.cdf(b - x);
     double w = g_direct - f_direct;
     f_direct = g_direct;
-    if (reflect) {
-      const double g_lo = kernel.cdf(b - image_lo), g_hi = kernel.cdf(b - image_hi);
-      w += (g_lo - f_lo) + (g_hi - f_hi);
+    if (reflect_lo) {
+      const double g_lo = kernel.cdf(b - image_lo);
+      w += g_lo - f_lo;
       f_lo = g_lo;
+    }
+    if (reflect_hi) {
+      const double g_hi = kernel.cdf(b - image_hi);
+      w += g_hi - f_hi;
       f_hi = g_hi;
     }
     out.weight.push_back(w);

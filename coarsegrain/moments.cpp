@@ -107,12 +107,14 @@ Stencils make_stencils(const std::vector<std::size_t>& inside, const CgParticles
   return st;
 }
 
-/// Calls f(q, cell, weight) for every particle q whose stencil reaches x-slab i, and every cell of the
-/// slab it reaches, in a fixed order: particles by the slab their stencil starts in, then by index.
+/// Calls f(q, slab cell, weight) for every particle q whose stencil reaches x-slab i, and every cell
+/// of the slab it reaches (slab cell j + ny k is grid cell (i, j, k)), in a fixed order: particles by
+/// the slab their stencil starts in, then by index.
 template <class F>
 void for_each_in_slab(int i, const Stencils& st, const std::vector<std::size_t>& bucket_start,
                       const std::vector<std::size_t>& by_first_x, const Grid& grid, F&& f) {
   const int b0 = std::max(0, i - st.stride[0] + 1);
+  const int ny = grid.cells[1];
   for (std::size_t r = bucket_start[static_cast<std::size_t>(b0)]; r < bucket_start[static_cast<std::size_t>(i) + 1]; ++r) {
     const std::size_t q = by_first_x[r];
     const int di = i - st.first[q][0];
@@ -122,8 +124,9 @@ void for_each_in_slab(int i, const Stencils& st, const std::vector<std::size_t>&
     const double* wz = st.w(q, 2);
     for (int c = 0; c < st.count[q][2]; ++c) {
       const double wxz = wx * wz[c];
+      const std::size_t row = static_cast<std::size_t>(ny) * static_cast<std::size_t>(st.first[q][2] + c);
       for (int b = 0; b < st.count[q][1]; ++b) {
-        f(q, grid.index(i, st.first[q][1] + b, st.first[q][2] + c), wxz * wy[b]);
+        f(q, row + static_cast<std::size_t>(st.first[q][1] + b), wxz * wy[b]);
       }
     }
   }
@@ -161,34 +164,75 @@ Moments coarse_grain(const CgParticles& particles, int n_species, const Grid& gr
 
   const double inv_v = 1.0 / grid.cell_volume();
   const int mix = m.mixture();
-  // Pass 1: mass, volume, number, momentum. Slabs are disjoint, so threads never share a cell.
-#pragma omp parallel for schedule(dynamic, 1)
-  for (int i = 0; i < nx; ++i) {
-    for_each_in_slab(i, st, bucket_start, by_first_x, grid, [&](std::size_t q, std::size_t cell, double w) {
-      const std::size_t p = inside[q];
-      const double mw = particles.mass[p] * w * inv_v, vw = particles.volume[p] * w * inv_v,
-                   nw = particles.number[p] * w * inv_v;
-      const Vec3 jw = mw * particles.velocity[p];
-      for (const std::size_t k : {m.at(particles.species[p], cell), m.at(mix, cell)}) {
-        m.mass[k] += mw;
-        m.volume[k] += vw;
-        m.number[k] += nw;
-        m.momentum[k] += jw;
+  const int rows = n_species + 1;
+  const std::size_t slab_cells = static_cast<std::size_t>(grid.cells[1]) * static_cast<std::size_t>(grid.cells[2]);
+  // Slabs are disjoint, so threads never share a cell. Each slab is summed into a small contiguous
+  // buffer (cache-resident: [slab cell][row][mass, volume, number, jx, jy, jz]) and copied out; the
+  // order of additions per cell is the particle order either way.
+  // Pass 1: mass, volume, number, momentum.
+#pragma omp parallel
+  {
+    std::vector<double> acc;
+#pragma omp for schedule(dynamic, 1)
+    for (int i = 0; i < nx; ++i) {
+      acc.assign(slab_cells * static_cast<std::size_t>(rows) * 6, 0.0);
+      for_each_in_slab(i, st, bucket_start, by_first_x, grid, [&](std::size_t q, std::size_t cell, double w) {
+        const std::size_t p = inside[q];
+        const double mw = particles.mass[p] * w * inv_v, vw = particles.volume[p] * w * inv_v, nw = particles.number[p] * w * inv_v;
+        const Vec3& v = particles.velocity[p];
+        for (const int row : {particles.species[p], mix}) {
+          double* a = acc.data() + (cell * static_cast<std::size_t>(rows) + static_cast<std::size_t>(row)) * 6;
+          a[0] += mw;
+          a[1] += vw;
+          a[2] += nw;
+          a[3] += mw * v.x;
+          a[4] += mw * v.y;
+          a[5] += mw * v.z;
+        }
+      });
+      for (std::size_t cell = 0; cell < slab_cells; ++cell) {
+        const std::size_t g = static_cast<std::size_t>(i) + static_cast<std::size_t>(nx) * cell;  // grid index of (i, j, k)
+        for (int row = 0; row < rows; ++row) {
+          const double* a = acc.data() + (cell * static_cast<std::size_t>(rows) + static_cast<std::size_t>(row)) * 6;
+          const std::size_t k = m.at(row, g);
+          m.mass[k] = a[0];
+          m.volume[k] = a[1];
+          m.number[k] = a[2];
+          m.momentum[k] = {a[3], a[4], a[5]};
+        }
       }
-    });
+    }
   }
   // Pass 2: fluctuations about the species and the mixture velocity of each cell.
-#pragma omp parallel for schedule(dynamic, 1)
-  for (int i = 0; i < nx; ++i) {
-    for_each_in_slab(i, st, bucket_start, by_first_x, grid, [&](std::size_t q, std::size_t cell, double w) {
-      const std::size_t p = inside[q];
-      const double mw = particles.mass[p] * w * inv_v;
-      for (const std::size_t k : {m.at(particles.species[p], cell), m.at(mix, cell)}) {
-        if (!(m.mass[k] > 0)) continue;  // massless particles only: no velocity, no fluctuation
-        const Vec3 u = (1.0 / m.mass[k]) * m.momentum[k];
-        m.fluctuation[k] += mw * norm2(particles.velocity[p] - u);
+#pragma omp parallel
+  {
+    std::vector<double> acc;
+    std::vector<Vec3> u;
+#pragma omp for schedule(dynamic, 1)
+    for (int i = 0; i < nx; ++i) {
+      acc.assign(slab_cells * static_cast<std::size_t>(rows), 0.0);
+      u.resize(acc.size());
+      for (std::size_t cell = 0; cell < slab_cells; ++cell) {
+        const std::size_t g = static_cast<std::size_t>(i) + static_cast<std::size_t>(nx) * cell;
+        for (int row = 0; row < rows; ++row) {
+          const std::size_t k = m.at(row, g);
+          u[cell * static_cast<std::size_t>(rows) + static_cast<std::size_t>(row)] = m.mass[k] > 0 ? (1.0 / m.mass[k]) * m.momentum[k] : Vec3{};
+        }
       }
-    });
+      for_each_in_slab(i, st, bucket_start, by_first_x, grid, [&](std::size_t q, std::size_t cell, double w) {
+        const std::size_t p = inside[q];
+        const double mw = particles.mass[p] * w * inv_v;
+        const Vec3& v = particles.velocity[p];
+        for (const int row : {particles.species[p], mix}) {
+          const std::size_t a = cell * static_cast<std::size_t>(rows) + static_cast<std::size_t>(row);
+          acc[a] += mw * norm2(v - u[a]);
+        }
+      });
+      for (std::size_t cell = 0; cell < slab_cells; ++cell) {
+        const std::size_t g = static_cast<std::size_t>(i) + static_cast<std::size_t>(nx) * cell;
+        for (int row = 0; row < rows; ++row) m.fluctuation[m.at(row, g)] = acc[cell * static_cast<std::size_t>(rows) + static_cast<std::size_t>(row)];
+      }
+    }
   }
   return m;
 }
