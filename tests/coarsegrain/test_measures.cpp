@@ -98,7 +98,7 @@ TEST_CASE("Top-view coverage of synthetic layouts: all chaff 1, none 0, half 0.5
   }
 }
 
-TEST_CASE("Top-view coverage sees only the top layer; a thicker layer reaches buried chaff", "[cg][measures]") {
+TEST_CASE("Top-view coverage sees the top layer only, and buried chaff within a thicker layer", "[cg][measures]") {
   const SpeciesTable species{{"wheat", "chaff"}, {false, true}, {}};
   dem::Snapshot s = test::empty_snapshot({"wheat", "chaff"});
   add_layer(s, 0.0025, [](const Vec3&) { return true; });    // chaff on the floor
