@@ -71,12 +71,20 @@ void Model::rhs(double t, std::span<const double> c, std::span<double> dcdt) con
   const TermContext ctx{grid_, faces_};
   for (const auto& term : terms_) term->add_fluxes(ctx, c, fluxes_);
   const Grid& g = grid_;
+  if (source_ && (!source_valid_ || t != source_time_)) {
+    source_values_.resize(size());
+    for (int i = 0; i < g.nx(); ++i) {
+      for (int k = 0; k < g.nz(); ++k) source_values_[g.index(i, k)] = source_(g.x_centre(i), g.z_centre(i, k), t);
+    }
+    source_time_ = t;
+    source_valid_ = true;
+  }
   for (int i = 0; i < g.nx(); ++i) {
     for (int k = 0; k < g.nz(); ++k) {
       const double net_out = fluxes_.x[x_face(g, i + 1, k)] - fluxes_.x[x_face(g, i, k)] +
                              fluxes_.s[s_face(g, i, k + 1)] - fluxes_.s[s_face(g, i, k)];
       double v = -net_out / g.area(i, k);
-      if (source_) v += source_(g.x_centre(i), g.z_centre(i, k), t);
+      if (source_) v += source_values_[g.index(i, k)];
       dcdt[g.index(i, k)] = v;
     }
   }

@@ -22,7 +22,10 @@ class Model {
 
   void add_term(std::unique_ptr<FluxTerm> term);
   /// Source s(x, z, t) [1/s], evaluated at cell centres (manufactured-solution tests).
-  void set_source(std::function<double(double, double, double)> source) { source_ = std::move(source); }
+  void set_source(std::function<double(double, double, double)> source) {
+    source_ = std::move(source);
+    source_valid_ = false;
+  }
 
   const Grid& grid() const { return grid_; }
   const Flow& flow() const { return *flow_; }
@@ -58,6 +61,11 @@ class Model {
   mutable double faces_time_;
   mutable bool faces_valid_ = false;
   mutable FaceFluxes fluxes_;
+  // The source does not depend on c: cached per time, so CVODE's difference-quotient Jacobian
+  // (many rhs calls at one t) evaluates it once.
+  mutable std::vector<double> source_values_;
+  mutable double source_time_ = 0;
+  mutable bool source_valid_ = false;
 };
 
 }  // namespace grainscale::continuum
