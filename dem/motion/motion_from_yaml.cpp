@@ -3,6 +3,7 @@
 #include <numbers>
 
 #include "dem/input_error.hpp"
+#include "dem/motion/delayed_motion.hpp"
 #include "dem/motion/platform_tilt.hpp"
 #include "dem/motion/sinusoidal_motion.hpp"
 #include "dem/motion/tabulated_motion.hpp"
@@ -15,6 +16,7 @@ constexpr double kDeg = std::numbers::pi / 180;
 
 std::shared_ptr<const MotionProfile> motion_from_yaml(YamlMap m, double end_time) {
   const std::string type = m.choice("type", {"platform", "sinusoids", "record"});
+  const double start = m.number_or("start_time", 0.0, Range::non_negative());
   std::shared_ptr<const MotionProfile> out;
   if (type == "platform") {
     PlatformTilt::Params p;
@@ -43,13 +45,15 @@ std::shared_ptr<const MotionProfile> motion_from_yaml(YamlMap m, double end_time
     out = std::make_shared<SinusoidalMotion>(d);
   } else {
     auto rec = std::make_shared<TabulatedMotion>(TabulatedMotion::load(resolve_beside(m.file(), m.string("file"))));
-    if (rec->end_time() < end_time || rec->start_time() > 0) {
+    if (rec->end_time() < end_time - start || rec->start_time() > 0) {
       throw InputError(m.where("file") + ": the record covers t = " + std::to_string(rec->start_time()) + " to " +
-                       std::to_string(rec->end_time()) + " s but the run needs 0 to " + std::to_string(end_time) + " s");
+                       std::to_string(rec->end_time()) + " s but the run needs 0 to " +
+                       std::to_string(end_time - start) + " s of it");
     }
     out = rec;
   }
   m.finish();
+  if (start > 0) out = std::make_shared<DelayedMotion>(out, start);
   return out;
 }
 

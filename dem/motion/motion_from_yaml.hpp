@@ -6,7 +6,8 @@
 //   motion: {type: sinusoids, roll: {amplitude_deg: 20, period: 12, phase_deg: 0},
 //            heave: {amplitude: 1.5, period: 8}}           # any of roll pitch yaw surge sway heave
 //   motion: {type: record, file: roll_record.csv}        # t_s,roll_deg,pitch_deg,yaw_deg,surge_m,sway_m,heave_m
-// and beside it `pivot: [x, y, z]` (m, world frame at rest; default the origin).
+// Every type also takes `start_time` (s, default 0): at rest until then (dem/motion/delayed_motion.hpp).
+// Beside `motion`, the wall takes `pivot: [x, y, z]` (m, world frame at rest; default the origin).
 #include <memory>
 
 #include "dem/motion_profile.hpp"

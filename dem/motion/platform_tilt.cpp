@@ -8,17 +8,20 @@ namespace grainscale::dem {
 
 PlatformTilt::PlatformTilt(const Params& p) : p_(p) {
   p_.axis = (1.0 / norm(p.axis)) * p.axis;
-  // Level start: half-way through the first transition (from +A towards -A).
-  offset_ = p.start_level ? p.pause + 0.25 / p.frequency : 0.0;
+  ramp_ = p.start_level ? 0.5 / p.frequency : 0.0;
 }
 
 void PlatformTilt::angle(double t, double& theta, double& rate, double& accel) const {
   const double h = 0.5 / p_.frequency;  // duration of one transition
   const double T = period();
-  double s = std::fmod(t + offset_, T);
-  if (s < 0) s += T;
   const double A = p_.amplitude, k = std::numbers::pi / h;
   theta = rate = accel = 0;
+  if (t < ramp_) {  // the initial rise from level
+    theta = 0.5 * A * (1 - std::cos(k * t)), rate = 0.5 * A * k * std::sin(k * t), accel = 0.5 * A * k * k * std::cos(k * t);
+    return;
+  }
+  double s = std::fmod(t - ramp_, T);
+  if (s < 0) s += T;
   if (s < p_.pause) {
     theta = A;
   } else if (s < p_.pause + h) {
@@ -40,7 +43,7 @@ RigidMotionState PlatformTilt::at(double t) const {
   s.angular_velocity = rate * p_.axis;
   s.angular_acceleration = accel * p_.axis;  // fixed axis: no gyroscopic term
   const double T = period();
-  s.phase = std::fmod(std::fmod(t + offset_, T) + T, T) / T;
+  s.phase = t < ramp_ ? 0.0 : std::fmod(t - ramp_, T) / T;
   return s;
 }
 

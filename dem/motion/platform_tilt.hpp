@@ -11,10 +11,12 @@
 //     [pause + h, 2 pause + h)          theta = -A                   (hold at the other end)
 //     [2 pause + h, T)                  theta = -A cos(pi (t' - 2 pause - h) / h)
 //
-// Every number is a parameter. `start` chooses where in the cycle t = 0 falls: "rest" (default)
-// starts level (theta = 0, mid-way through the first transition, moving towards -A) so that a
-// settled bed is not jolted by a sudden tilt; "end" starts holding at +A. theta' is continuous;
-// theta'' jumps at the ends of each transition (as the real platform's command did).
+// Every number is a parameter. `start` chooses how t = 0 begins: "level" (default) starts at rest
+// and level and rises to +A along half a cosine over one transition time h,
+//     theta = A (1 - cos(pi t / h)) / 2,   t < h,
+// then runs the cycle from the start of the +A hold, so a settled bed is not jolted; "end" starts
+// holding at +A. theta' is continuous throughout; theta'' jumps at the ends of each transition (as
+// the real platform's command did). The phase counts from the start of the +A hold.
 #include <string>
 
 #include "dem/motion_profile.hpp"
@@ -28,7 +30,7 @@ class PlatformTilt final : public MotionProfile {
     double frequency = 0.1;    // f of the sine the transitions are cut from, Hz
     double pause = 4;          // hold at each end, s
     Vec3 axis{0, 1, 0};        // rotation axis (unit), world frame
-    bool start_level = true;   // t = 0 at theta = 0 (mid-transition) rather than at the start of a hold
+    bool start_level = true;   // begin level and at rest, rising to +A over one transition
   };
   explicit PlatformTilt(const Params& p);
 
@@ -40,7 +42,7 @@ class PlatformTilt final : public MotionProfile {
 
  private:
   Params p_;
-  double offset_ = 0;  // s added to t before taking the cycle position
+  double ramp_ = 0;  // duration of the initial rise from level (0 with start "end")
 };
 
 }  // namespace grainscale::dem

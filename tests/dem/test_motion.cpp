@@ -101,8 +101,11 @@ TEST_CASE("The report's platform: 18 s cycle, 4 s holds at +/-24 degrees, 5 s si
   double theta, rate, accel;
   tilt.angle(0, theta, rate, accel);
   CHECK_THAT(theta, WithinAbs(0, 1e-12));  // starts level
-  CHECK(rate < 0);                         // heading for -A
-  for (double t = 0; t < 36; t += dt) {
+  CHECK_THAT(rate, WithinAbs(0, 1e-12));   // and at rest
+  tilt.angle(5.0, theta, rate, accel);     // risen to +A after one transition
+  CHECK_THAT(theta, WithinAbs(p.amplitude, 1e-12));
+  for (int i = 0; i < 36000; ++i) {
+    const double t = 5 + i * dt;
     tilt.angle(t, theta, rate, accel);
     if (std::abs(theta - p.amplitude) < 1e-12) hold_plus += dt;
     if (std::abs(theta + p.amplitude) < 1e-12) hold_minus += dt;
@@ -116,7 +119,7 @@ TEST_CASE("The report's platform: 18 s cycle, 4 s holds at +/-24 degrees, 5 s si
   CHECK_THAT(max_angle, WithinAbs(24 * kDeg, 1e-12));
   CHECK_THAT(min_angle, WithinAbs(-24 * kDeg, 1e-12));
   // Phase runs 0 -> 1 over one period.
-  CHECK_THAT(tilt.at(4.5).phase - tilt.at(0.0).phase, WithinAbs(0.25, 1e-12));
+  CHECK_THAT(tilt.at(9.5).phase - tilt.at(5.0).phase, WithinAbs(0.25, 1e-12));
 }
 
 TEST_CASE("A recorded motion is interpolated smoothly: a finely sampled sinusoid is reproduced", "[dem][motion]") {
