@@ -177,6 +177,17 @@ BuiltScenario build(const Scenario& s) {
   SimulationSettings settings = s.settings;
   bool pours = false;
   for (const BatchSpec& b : s.particles) pours = pours || b.rate > 0;
+  if (pours && settings.skin == 0) {
+    // Like the time step, the Verlet skin must suit particles that arrive later (0.2 x the largest
+    // radius, as Simulation::setup would choose with every particle present).
+    double r_max = 0;
+    for (const BatchSpec& b : s.particles) {
+      if (!b.batch.shape) r_max = std::max(r_max, 0.5 * b.batch.diameter * (1 + b.batch.diameter_spread));
+      else
+        for (const auto& c : b.batch.shape->spheres) r_max = std::max(r_max, c.radius);
+    }
+    settings.skin = 0.2 * r_max;
+  }
   if (pours && settings.time_step == 0) {
     double t = 1e300;
     for (const BatchSpec& b : s.particles) {
