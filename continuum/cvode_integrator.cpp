@@ -6,6 +6,8 @@
 #include <sunmatrix/sunmatrix_band.h>
 
 #include <algorithm>
+
+#include "continuum/conservative_jacobian.hpp"
 #include <cstring>
 #include <span>
 #include <stdexcept>
@@ -19,6 +21,19 @@ int rhs_callback(realtype t, N_Vector y, N_Vector ydot, void* user) {
   const auto* model = static_cast<const Model*>(user);
   const auto n = static_cast<std::size_t>(N_VGetLength(y));
   model->rhs(t, std::span<const double>(N_VGetArrayPointer(y), n), std::span<double>(N_VGetArrayPointer(ydot), n));
+  return 0;
+}
+
+/// Band Jacobian with exact column sums (conservative_jacobian.hpp).
+int jacobian_callback(realtype t, N_Vector y, N_Vector, SUNMatrix J, void* user, N_Vector, N_Vector, N_Vector) {
+  const auto* model = static_cast<const Model*>(user);
+  const auto n = static_cast<std::size_t>(N_VGetLength(y));
+  SUNMatZero(J);
+  const int b = static_cast<int>(SUNBandMatrix_UpperBandwidth(J));
+  conservative_band_jacobian(*model, t, std::span<const double>(N_VGetArrayPointer(y), n), b,
+                             [&](std::size_t row, std::size_t col, double v) {
+                               SM_ELEMENT_B(J, static_cast<sunindextype>(row), static_cast<sunindextype>(col)) += v;
+                             });
   return 0;
 }
 
@@ -58,6 +73,11 @@ CvodeIntegrator::CvodeIntegrator(const Model& model, IntegratorSettings settings
   check(CVodeSetUserData(s_->cvode, const_cast<Model*>(&model_)), "CVodeSetUserData");
   check(CVodeSStolerances(s_->cvode, settings_.rtol, settings_.atol), "CVodeSStolerances");
   check(CVodeSetLinearSolver(s_->cvode, s_->solver, s_->jac), "CVodeSetLinearSolver");
+  // Keep total chaff: with Σ A_i J_ij = 0 every Newton correction δ = −(I − γJ)⁻¹ G moves the
+  // total exactly to its predicted value. CVODE's default rescaling of δ by 2 / (1 + γ/γ_old)
+  // (after γ changed since the last Jacobian) would break that and leave an O(tolerance) drift.
+  check(CVodeSetLinearSolutionScaling(s_->cvode, SUNFALSE), "CVodeSetLinearSolutionScaling");
+  check(CVodeSetJacFn(s_->cvode, jacobian_callback), "CVodeSetJacFn");
   check(CVodeSetMaxNumSteps(s_->cvode, settings_.max_steps), "CVodeSetMaxNumSteps");
   if (settings_.max_dt > 0) check(CVodeSetMaxStep(s_->cvode, settings_.max_dt), "CVodeSetMaxStep");
 }

@@ -1,10 +1,9 @@
 #pragma once
 // SUNDIALS CVODE, variable-order BDF with Newton iterations and a band direct solver. The band
-// Jacobian is built by CVODE's grouped difference quotients over the model's band half-width
-// (model.hpp), which is exact in structure because the band covers the whole stencil. BDF with an
-// exact-structure Jacobian keeps linear invariants, so total chaff is conserved to round-off
-// (up to the linear solve), but unlike SSP-RK3 it does not guarantee c in [0, 1]: overshoots are
-// of the order of the tolerances.
+// Jacobian comes from difference quotients of the face fluxes (conservative_jacobian.hpp), so its
+// area-weighted column sums vanish; with CVODE's rescaling of Newton corrections switched off,
+// every Newton iterate then has the predicted total chaff, and BDF keeps the total to round-off.
+// Unlike SSP-RK3, BDF does not guarantee c in [0, 1]: excursions are of the order of the tolerances.
 #include <memory>
 
 #include "continuum/integrator.hpp"

@@ -65,11 +65,15 @@ void Model::update_faces(double t) const {
   faces_valid_ = true;
 }
 
-void Model::rhs(double t, std::span<const double> c, std::span<double> dcdt) const {
+void Model::face_fluxes(double t, std::span<const double> c, FaceFluxes& out) const {
   update_faces(t);
-  fluxes_.reset(grid_);
+  out.reset(grid_);
   const TermContext ctx{grid_, faces_};
-  for (const auto& term : terms_) term->add_fluxes(ctx, c, fluxes_);
+  for (const auto& term : terms_) term->add_fluxes(ctx, c, out);
+}
+
+void Model::rhs(double t, std::span<const double> c, std::span<double> dcdt) const {
+  face_fluxes(t, c, fluxes_);
   const Grid& g = grid_;
   if (source_ && (!source_valid_ || t != source_time_)) {
     source_values_.resize(size());

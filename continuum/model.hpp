@@ -39,6 +39,8 @@ class Model {
   double parameter(const std::string& qualified) const;
   void set_parameter(const std::string& qualified, double value);
 
+  /// Σ over terms of the face fluxes at (t, c) (no source).
+  void face_fluxes(double t, std::span<const double> c, FaceFluxes& out) const;
   /// dc/dt from (M1).
   void rhs(double t, std::span<const double> c, std::span<double> dcdt) const;
   /// Largest Σ_terms rate bound over the cells [1/s]; an explicit step needs dt · this ≤ CFL.
