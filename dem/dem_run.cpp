@@ -57,7 +57,7 @@ void DemRun::write_snapshot_now() {
   std::snprintf(name, sizeof name, "snap_%06zu.h5", snapshots_.size());
   const std::string rel = (fs::path("snapshots") / name).string();
   write_snapshot(*run_.sim, (fs::path(out_dir_) / rel).string(), {scenario_.name, scenario_.seed});
-  snapshots_.push_back({run_.sim->time(), rel, run_.sim->particles().size()});
+  snapshots_.push_back({run_.sim->time(), rel, run_.sim->particles().size(), xdmf_meshes(*run_.sim)});
   write_xdmf_series((fs::path(out_dir_) / "snapshots.xmf").string(), snapshots_);
 }
 

@@ -1,4 +1,5 @@
 #include "dem/snapshot.hpp"
+#include "dem/walls/mesh.hpp"
 
 #include <hdf5.h>
 
@@ -320,6 +321,21 @@ void write_walls(hid_t file, const std::vector<Wall>& walls, const CreationPrope
                            {pose.angular_velocity.x, pose.angular_velocity.y, pose.angular_velocity.z});
     write_scalar_attribute<std::int32_t>(wg.id(), "moving", w.moving() ? 1 : 0);
     write_scalar_attribute<double>(wg.id(), "motion_phase", w.phase());
+    // Mesh walls: the surface where it is now, so ParaView shows the container moving.
+    if (const auto* mesh = dynamic_cast<const MeshGeometry*>(&w.geometry())) {
+      const TriangleMesh& m = mesh->mesh();
+      std::vector<double> xyz;
+      xyz.reserve(3 * m.vertices.size());
+      for (const Vec3& v : m.vertices) {
+        const Vec3 x = pose.origin + rotate(pose.orientation, v);
+        xyz.insert(xyz.end(), {x.x, x.y, x.z});
+      }
+      std::vector<std::int32_t> tri;
+      tri.reserve(3 * m.triangles.size());
+      for (const auto& t : m.triangles) tri.insert(tri.end(), {static_cast<std::int32_t>(t[0]), static_cast<std::int32_t>(t[1]), static_cast<std::int32_t>(t[2])});
+      write_dataset(wg.id(), "vertices", xyz, m.vertices.size(), 3, props.dataset.id());
+      write_dataset(wg.id(), "triangles", tri, m.triangles.size(), 3, props.dataset.id());
+    }
   }
 }
 
@@ -735,6 +751,16 @@ Snapshot read_snapshot(const std::string& path) {
   }
 }
 
+std::vector<XdmfMesh> xdmf_meshes(const Simulation& sim) {
+  std::vector<XdmfMesh> out;
+  for (const Wall& w : sim.walls()) {
+    if (const auto* mesh = dynamic_cast<const MeshGeometry*>(&w.geometry())) {
+      out.push_back({w.name(), mesh->mesh().vertices.size(), mesh->mesh().triangles.size()});
+    }
+  }
+  return out;
+}
+
 void write_xdmf_series(const std::string& xmf_path, const std::vector<XdmfFrame>& frames) {
   const fs::path xmf_dir = fs::path(xmf_path).parent_path();
   std::ostringstream o;
@@ -749,8 +775,24 @@ void write_xdmf_series(const std::string& xmf_path, const std::vector<XdmfFrame>
     if (!std::isfinite(f.time)) {
       throw std::invalid_argument("write_xdmf_series('" + xmf_path + "'): time of '" + f.h5 + "' is not finite");
     }
-    write_grid(o, f.time, xml_escape(fs::path(f.h5).generic_string()), xml_escape(fs::path(f.h5).stem().string()),
-               static_cast<hsize_t>(f.particles));
+    const std::string ref = xml_escape(fs::path(f.h5).generic_string());
+    if (!f.meshes.empty()) o << "      <Grid Name=\"frame\" GridType=\"Collection\" CollectionType=\"Spatial\">\n";
+    write_grid(o, f.time, ref, xml_escape(fs::path(f.h5).stem().string()), static_cast<hsize_t>(f.particles));
+    for (const XdmfMesh& m : f.meshes) {
+      const std::string at = ref + ":/walls/" + xml_escape(m.name);
+      o << "      <Grid Name=\"" << xml_escape(m.name) << "\" GridType=\"Uniform\">\n"
+        << "        <Time Value=\"" << exact(f.time) << "\"/>\n"
+        << "        <Topology TopologyType=\"Triangle\" NumberOfElements=\"" << m.triangles << "\">\n"
+        << "          <DataItem Dimensions=\"" << m.triangles << " 3\" NumberType=\"Int\" Precision=\"4\" Format=\"HDF\">"
+        << at << "/triangles</DataItem>\n"
+        << "        </Topology>\n"
+        << "        <Geometry GeometryType=\"XYZ\">\n"
+        << "          <DataItem Dimensions=\"" << m.vertices << " 3\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">"
+        << at << "/vertices</DataItem>\n"
+        << "        </Geometry>\n"
+        << "      </Grid>\n";
+    }
+    if (!f.meshes.empty()) o << "      </Grid>\n";
   }
   o << "    </Grid>\n"
     << "  </Domain>\n"

@@ -90,11 +90,21 @@ Snapshot read_snapshot(const std::string& path);
 /// relative lets the output directory be moved as a whole. `particles` is the snapshot's particle
 /// count, which XDMF needs for the array sizes (the caller knows it; the files are not reopened, so
 /// rewriting the series after every snapshot of a long run stays cheap).
+/// A mesh wall stored in a snapshot (/walls/<name>/vertices and /triangles).
+struct XdmfMesh {
+  std::string name;
+  std::uint64_t vertices = 0, triangles = 0;
+};
+
 struct XdmfFrame {
   double time = 0;
   std::string h5;
   std::uint64_t particles = 0;
+  std::vector<XdmfMesh> meshes;  // shown beside the particles, where they are at `time`
 };
+
+/// The mesh walls of `sim`, for XdmfFrame::meshes.
+std::vector<XdmfMesh> xdmf_meshes(const Simulation& sim);
 
 /// Write (atomically, tmp + rename) an XDMF 2 file that makes ParaView open the given snapshots as one
 /// time series: a temporal collection of Polyvertex grids on /particles/position with the attributes

@@ -20,6 +20,9 @@
 #include <vector>
 
 #include "dem/input_error.hpp"
+#include "dem/container_meshes.hpp"
+#include "dem/motion/platform_tilt.hpp"
+#include "dem/walls/mesh.hpp"
 #include "dem/walls/plane.hpp"
 #include "grainscale_version.hpp"
 
@@ -485,6 +488,48 @@ TEST_CASE("Clumps round-trip: each sphere names its body, bodies carry pose, mas
     if (s.body[i] == 1) clump_mass += s.mass[i];
   }
   CHECK_THAT(clump_mass, Catch::Matchers::WithinRel(b.mass[1], 1e-12));  // sphere shares sum to the clump
+}
+
+TEST_CASE("A moving mesh wall is stored where it is, with its phase, and shown in the XDMF series",
+          "[dem][snapshot][mesh]") {
+  const TempDir dir;
+  SimulationSettings settings;
+  settings.time_step = 1e-5;
+  Simulation sim(grain_materials(), settings);
+  sim.add_sphere(0, 0.001, {0.1, 0.05, 0.01});
+  sim.add_wall("tank", std::make_shared<MeshGeometry>(box_mesh({0, 0, 0}, {0.2, 0.1, 0.1}, {1, 1, 1, 1, 1, 0})), 1);
+  PlatformTilt::Params tilt;
+  tilt.amplitude = 0.3;
+  tilt.start_level = false;  // holding at +A from t = 0
+  sim.walls().back().set_motion({std::make_shared<PlatformTilt>(tilt), {-0.5, 0, 0}});
+  sim.setup();
+  sim.run_steps(10);
+  const std::string h5 = dir / "snap.h5";
+  write_snapshot(sim, h5, kInfo);
+
+  const Snapshot snap = read_snapshot(h5);
+  REQUIRE(snap.walls.size() == 1);
+  CHECK(snap.walls[0].moving);
+  CHECK(snap.walls[0].motion_phase == sim.walls()[0].phase());
+  // A vertex of the stored mesh is the rest vertex turned by 0.3 rad about y through the pivot.
+  const hid_t f = H5Fopen(h5.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  REQUIRE(f >= 0);
+  const hid_t d = H5Dopen2(f, "/walls/tank/vertices", H5P_DEFAULT);
+  REQUIRE(d >= 0);
+  std::vector<double> xyz;
+  const auto& mesh = dynamic_cast<const MeshGeometry&>(sim.walls()[0].geometry()).mesh();
+  xyz.resize(3 * mesh.vertices.size());
+  REQUIRE(H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, xyz.data()) >= 0);
+  H5Dclose(d);
+  H5Fclose(f);
+  const Vec3 expected = Vec3{-0.5, 0, 0} + rotate(axis_angle({0, 1, 0}, 0.3), mesh.vertices[0] - Vec3{-0.5, 0, 0});
+  CHECK(norm(Vec3{xyz[0], xyz[1], xyz[2]} - expected) < 1e-14);
+
+  const std::string xmf = dir / "series.xmf";
+  write_xdmf_series(xmf, {{sim.time(), "snap.h5", sim.particles().size(), xdmf_meshes(sim)}});
+  const std::string text = slurp(xmf);
+  CHECK_THAT(text, Contains("CollectionType=\"Spatial\"") && Contains("TopologyType=\"Triangle\"") &&
+                       Contains("snap.h5:/walls/tank/vertices"));
 }
 
 }  // namespace grainscale::dem
