@@ -1,0 +1,37 @@
+#pragma once
+// Bulk flow from coarse-grained DEM fields on a regular (x, z) grid, in the container frame and
+// averaged over the width (docs/continuum.md, "Field input"). Only the horizontal velocity u and
+// γ̇ are used: the vertical velocity is rebuilt from continuity through the stream function
+//   ψ(x, z) = ∫₀ᶻ [u(x, z') − Q(x)/h(x)] dz',   Q(x) = ∫₀^{h(x)} u dz,                (G1)
+// which vanishes on the floor and on the surface. Subtracting the depth mean Q/h (zero for an exact,
+// steady, closed bed) removes the net column flux that noise and phase averaging leave, which would
+// otherwise be a source or sink of bulk at the surface. Between data columns ψ is interpolated at
+// equal σ = z/h, and it tapers linearly to zero at the end walls x = 0 and x = L.
+#include <string>
+#include <vector>
+
+#include "continuum/flow.hpp"
+
+namespace grainscale::continuum {
+
+class GriddedFlow final : public Flow {
+ public:
+  /// Read the HDF5 layout of docs/continuum.md; `length` is the bed length L (walls at 0 and L).
+  static GriddedFlow load(const std::string& file, double length);
+  GriddedFlow(double length, std::vector<double> x, std::vector<double> z, std::vector<double> u,
+              std::vector<double> shear_rate, std::vector<double> surface_height);
+
+  double stream_function(double x, double z, double t) const override;
+  double shear_rate(double x, double z, double t) const override;
+  bool steady() const override { return true; }
+  /// h(x), linear between data columns, constant beyond the first and last.
+  double surface_height(double x) const;
+
+ private:
+  double column_psi(int j, double sigma) const;  // (G1) on data column j at σ
+  double length_;
+  std::vector<double> x_, z_, u_, rate_, h_;     // u_, rate_ stored [z][x]
+  std::vector<std::vector<double>> psi_sigma_;   // per column: ψ at σ_m = m / (S − 1)
+};
+
+}  // namespace grainscale::continuum
