@@ -6,6 +6,7 @@
 #include "dem/motion/delayed_motion.hpp"
 #include "dem/motion/platform_tilt.hpp"
 #include "dem/motion/sinusoidal_motion.hpp"
+#include "dem/motion/steady_motion.hpp"
 #include "dem/motion/tabulated_motion.hpp"
 
 namespace grainscale::dem {
@@ -15,7 +16,7 @@ constexpr double kDeg = std::numbers::pi / 180;
 }
 
 std::shared_ptr<const MotionProfile> motion_from_yaml(YamlMap m, double end_time) {
-  const std::string type = m.choice("type", {"platform", "sinusoids", "record"});
+  const std::string type = m.choice("type", {"platform", "sinusoids", "record", "steady"});
   const double start = m.number_or("start_time", 0.0, Range::non_negative());
   std::shared_ptr<const MotionProfile> out;
   if (type == "platform") {
@@ -43,6 +44,10 @@ std::shared_ptr<const MotionProfile> motion_from_yaml(YamlMap m, double end_time
     }
     if (!any) throw InputError(m.where("type") + ": 'sinusoids' needs at least one of roll, pitch, yaw, surge, sway, heave");
     out = std::make_shared<SinusoidalMotion>(d);
+  } else if (type == "steady") {
+    const Vec3 v = m.vec3_or("velocity", {}), w = m.vec3_or("angular_velocity", {});
+    if (norm(v) == 0 && norm(w) == 0) throw InputError(m.where("type") + ": 'steady' needs a velocity or an angular_velocity");
+    out = std::make_shared<SteadyMotion>(v, w);
   } else {
     auto rec = std::make_shared<TabulatedMotion>(TabulatedMotion::load(resolve_beside(m.file(), m.string("file"))));
     if (rec->end_time() < end_time - start || rec->start_time() > 0) {

@@ -5,6 +5,7 @@
 //   motion: {type: platform, amplitude_deg: 24, frequency: 0.1, pause: 4, axis: [0, 1, 0], start: level}
 //   motion: {type: sinusoids, roll: {amplitude_deg: 20, period: 12, phase_deg: 0},
 //            heave: {amplitude: 1.5, period: 8}}           # any of roll pitch yaw surge sway heave
+//   motion: {type: steady, velocity: [0, 0, 0.01], angular_velocity: [0, 0, 0]}   # m/s, rad/s
 //   motion: {type: record, file: roll_record.csv}        # t_s,roll_deg,pitch_deg,yaw_deg,surge_m,sway_m,heave_m
 // Every type also takes `start_time` (s, default 0): at rest until then (dem/motion/delayed_motion.hpp).
 // Beside `motion`, the wall takes `pivot: [x, y, z]` (m, world frame at rest; default the origin).

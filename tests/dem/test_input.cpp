@@ -106,6 +106,19 @@ struct ScenarioFiles {
 
 }  // namespace
 
+TEST_CASE("A scenario's mesh wall with a motion moves as the profile says", "[dem][input][motion]") {
+  const ScenarioFiles f(replace(kGoodScenario, "type: box, min: [0, 0, 0], max: [0.05, 0.05, 0.1], open: [+z], material: wall}",
+                                "type: box_mesh, min: [0, 0, 0], max: [0.05, 0.05, 0.1], open: [+z], material: wall, "
+                                "pivot: [0, 0, -0.2], motion: {type: steady, velocity: [0, 0, 0.5], start_time: 0.004}}"));
+  BuiltScenario built = build(load_scenario(f.scenario.path.string()));
+  REQUIRE(built.sim->walls().size() == 1);
+  CHECK(built.sim->walls()[0].moving());
+  while (built.sim->time() < 0.01) built.advance();
+  // At rest until 0.004 s, then rising at 0.5 m/s.
+  CHECK_THAT(built.sim->walls()[0].pose().origin.z, Catch::Matchers::WithinAbs(0.5 * (built.sim->time() - 0.004), 1e-12));
+  CHECK(built.sim->walls()[0].pose().velocity.z == 0.5);
+}
+
 TEST_CASE("A scenario builds the walls and inserts the particles it describes", "[dem][input]") {
   const ScenarioFiles f(kGoodScenario);
   const Scenario s = load_scenario(f.scenario.path.string());
@@ -138,7 +151,17 @@ TEST_CASE("Bad scenarios are rejected with file, line, key and range", "[dem][in
       Case{"count: 50", "count: 100000", "random insertion jams"},
       Case{"max: [0.05, 0.05, 0.1], open", "max: [0.05, 0.05], open", "list of 3 numbers"},
       Case{"materials: materials.yaml", "materials: nothere.yaml", "nothere.yaml"},
-      Case{"name: box,", "name: a/b,", "wall name 'a/b' is not allowed"});
+      Case{"name: box,", "name: a/b,", "wall name 'a/b' is not allowed"},
+      Case{"type: box,", "type: box_mesh, compartments: 0,", "walls[0].compartments"},
+      Case{"type: box,", "type: stl, file: missing.stl,", "missing.stl: cannot open"},
+      Case{"material: wall}", "material: wall, motion: {type: platform, amplitude_deg: 120}}", "amplitude_deg"},
+      Case{"material: wall}", "material: wall, motion: {type: platform, amplitude_deg: 20, axis: [0, 0, 0]}}",
+           "axis' must not be the zero vector"},
+      Case{"material: wall}", "material: wall, motion: {type: sinusoids}}", "needs at least one of roll"},
+      Case{"material: wall}", "material: wall, motion: {type: sinusoids, roll: {amplitude_deg: 5, period: -1}}}",
+           "roll.period"},
+      Case{"material: wall}", "material: wall, motion: {type: steady, velocity: [0, 0, 1], speed: 1}}", "unknown key"},
+      Case{"material: wall}", "material: wall, pivot: [0, 0, 0]}", "only meaningful with 'motion'"});
   const ScenarioFiles f(replace(kGoodScenario, c.from, c.to));
   INFO(c.to);
   CHECK_THROWS_AS(build(load_scenario(f.scenario.path.string())), InputError);

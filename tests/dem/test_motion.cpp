@@ -12,6 +12,7 @@
 #include "dem/input_error.hpp"
 #include "dem/motion/platform_tilt.hpp"
 #include "dem/motion/sinusoidal_motion.hpp"
+#include "dem/motion/steady_motion.hpp"
 #include "dem/motion/tabulated_motion.hpp"
 
 using namespace grainscale::dem;
@@ -72,7 +73,10 @@ TEST_CASE("Angular velocity and acceleration are the derivatives of the rotation
   // d/dt (R v) = omega x (R v) for any vector v, d omega/dt = alpha, d'(t) = velocity, d'' = acceleration;
   // checked by central differences (error O(h^2)).
   auto [name, profile] = GENERATE(table<const char*, std::shared_ptr<MotionProfile>>(
-      {{"platform", platform()}, {"sinusoids", ship()}, {"record", recorded_ship()}}));
+      {{"platform", platform()},
+       {"sinusoids", ship()},
+       {"record", recorded_ship()},
+       {"steady", std::make_shared<SteadyMotion>(Vec3{0.01, 0, 0.02}, Vec3{0.1, -0.2, 0.3})}}));
   const double h = 1e-4;
   for (double t : {1.3, 6.1, 7.9, 14.2, 16.6, 23.5, 40.7}) {
     const RigidMotionState s = profile->at(t), a = profile->at(t + h), b = profile->at(t - h);

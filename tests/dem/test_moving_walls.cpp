@@ -10,6 +10,7 @@
 
 #include "dem/container_meshes.hpp"
 #include "dem/motion/sinusoidal_motion.hpp"
+#include "dem/motion/steady_motion.hpp"
 #include "dem/motion/tabulated_motion.hpp"
 #include "dem/simulation.hpp"
 #include "dem/walls/mesh.hpp"
@@ -18,23 +19,6 @@ using namespace grainscale::dem;
 using Catch::Matchers::WithinAbs;
 
 namespace {
-
-/// Turning at a constant rate about z (a turntable).
-class SteadySpin final : public MotionProfile {
- public:
-  explicit SteadySpin(double rate) : rate_(rate) {}
-  RigidMotionState at(double t) const override {
-    RigidMotionState s;
-    s.rotation = axis_angle({0, 0, 1}, rate_ * t);
-    s.angular_velocity = {0, 0, rate_};
-    return s;
-  }
-  double period() const override { return 2 * std::numbers::pi / rate_; }
-  std::string describe() const override { return "steady spin"; }
-
- private:
-  double rate_;
-};
 
 MaterialTable grain_and_floor(double mu) {
   MaterialTable mt;
@@ -67,7 +51,7 @@ TEST_CASE("On a turning disc a block co-rotates; a free ball orbits at 2/7 of th
   add_block(sim, 0.05, 0);
   sim.add_sphere(0, r, {0, 0.05, r * 0.999});
   sim.add_wall("disc", std::make_shared<MeshGeometry>(tray_mesh(0.1, 0.0, 64)), 1);
-  sim.walls().back().set_motion({std::make_shared<SteadySpin>(rate), {0, 0, 0}});
+  sim.walls().back().set_motion({std::make_shared<SteadyMotion>(Vec3{}, Vec3{0, 0, rate}), {0, 0, 0}});
   sim.setup();
   sim.run_steps(static_cast<std::uint64_t>(2.0 / sim.dt()));  // 2 s: one radian of the disc
   const Vec3 xb = sim.bodies().x[0], vb = sim.bodies().v[0];
