@@ -16,6 +16,7 @@
 #include "dem/input_error.hpp"
 #include "dem/scenario.hpp"
 #include "dem/shape.hpp"
+#include "studies/cg_plots.hpp"
 #include "studies/shape_picture.hpp"
 #include "grainscale_version.hpp"
 
@@ -170,6 +171,7 @@ int run_cg(const Args& a) {
                 "centre %.3g, right %.3g\n",
                 c.left, c.right, c.coverage_left, c.coverage_centre, c.coverage_right);
   }
+  studies::write_cg_plots(s.output_dir, std::cout);  // PNG figures beside the CSV files
   std::printf("output: %s\n", s.output_dir.c_str());
   return 0;
 }

@@ -42,12 +42,12 @@ Ticks axis_ticks(Extent data, std::optional<double> fixed_lo, std::optional<doub
     throw std::invalid_argument("figure " + figure + ": the " + axis + " axis limits leave no range (min >= max)");
   }
   Ticks t = widen || a == b ? nice_ticks(a, b, target) : ticks_within(a, b, target);
-  if (fixed_lo || fixed_hi) {
-    t.lo = a;
-    t.hi = b;
+  if (fixed_lo || fixed_hi) {  // a fixed end is kept as given; a free end stays rounded out
+    if (fixed_lo) t.lo = a;
+    if (fixed_hi) t.hi = b;
     std::vector<double> inside;
     for (double v : t.values)
-      if (v >= a - 1e-9 * t.step && v <= b + 1e-9 * t.step) inside.push_back(v);
+      if (v >= t.lo - 1e-9 * t.step && v <= t.hi + 1e-9 * t.step) inside.push_back(v);
     t.values = inside;
   }
   return t;

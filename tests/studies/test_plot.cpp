@@ -107,7 +107,7 @@ TEST_CASE("Heat map cells take the colour of their value; NaN is grey, no cell i
   h.values = {0.0, 1.0, kNaN, 0.5};  // (i, j): (0,0)=0, (1,0)=1, (0,1)=NaN, (1,1)=0.5
   h.v_min = 0;
   h.v_max = 1;
-  h.value_label = "c";
+  h.value_label = "c (-)";
   PlotGeometry g;
   const Image img = draw(h, &g);
   CHECK(same(img.at(g.column(0.5), g.row(0.25)), colour_at(ColourMap::sequential, 0.0)));
