@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
+#include <string>
 
 namespace grainscale::dem {
 
@@ -223,6 +225,34 @@ void ForceField::permute(const std::vector<std::uint32_t>& new_to_old) {
     for (int s = 0; s < kWallSlots; ++s) wall_scratch_[i * kWallSlots + s] = wall_slots_[new_to_old[i] * kWallSlots + s];
   wall_slots_.swap(wall_scratch_);
   permute_array(wall_count_, count_scratch_, new_to_old);
+}
+
+void ForceField::restore_wall_contacts(const std::vector<std::uint8_t>& counts, const std::vector<WallSlot>& used,
+                                       std::size_t walls) {
+  std::size_t total = 0;
+  for (std::uint8_t c : counts) {
+    if (c > kWallSlots) {
+      throw std::invalid_argument("wall contacts: a particle has " + std::to_string(c) + " (at most " +
+                                  std::to_string(kWallSlots) + ")");
+    }
+    total += c;
+  }
+  if (total != used.size()) {
+    throw std::invalid_argument("wall contacts: the counts add up to " + std::to_string(total) + " but " +
+                                std::to_string(used.size()) + " are stored");
+  }
+  for (const WallSlot& s : used) {
+    if (s.wall < 0 || static_cast<std::size_t>(s.wall) >= walls) {
+      throw std::invalid_argument("wall contacts: wall index " + std::to_string(s.wall) + " outside [0, " +
+                                  std::to_string(walls) + ")");
+    }
+  }
+  const std::size_t n = counts.size();  // may be fewer than the particles: resize() extends
+  wall_slots_.assign(n * kWallSlots, WallSlot{});
+  wall_count_ = counts;
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < n; ++i)
+    for (int s = 0; s < counts[i]; ++s) wall_slots_[i * kWallSlots + s] = used[k++];
 }
 
 ContactEnergy ForceField::contact_energy(const Particles& p, const NeighborList& nl,

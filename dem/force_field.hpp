@@ -68,6 +68,15 @@ class ForceField {
     wall_slots_.resize(n * kWallSlots);
     wall_count_.resize(n);
   }
+  /// Wall-contact histories: kWallSlots per particle slot, of which the first wall_counts()[i] are
+  /// in use (the rest are never read). What a checkpoint stores (dem/checkpoint.hpp).
+  const std::vector<WallSlot>& wall_slots() const { return wall_slots_; }
+  const std::vector<std::uint8_t>& wall_counts() const { return wall_count_; }
+  /// Reinstate them for `counts.size()` particles from the slots in use only, particle by particle
+  /// (`used.size()` == sum of `counts`), each naming one of `walls` walls. Throws
+  /// std::invalid_argument (nothing changed) if they do not fit.
+  void restore_wall_contacts(const std::vector<std::uint8_t>& counts, const std::vector<WallSlot>& used,
+                             std::size_t walls);
   /// Hertz-Mindlin parameters of the material pair (a, b), as the force loop uses them.
   const HertzMindlin::Params& contact_params(int a, int b) const {
     return std::visit([&](const auto& m) -> const HertzMindlin::Params& { return m.contact[a * m.materials + b]; },

@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
+#include <string>
 
 namespace grainscale::dem {
 
@@ -116,17 +118,53 @@ void NeighborList::build(Particles& p, double skin, const std::vector<std::uint3
     });
   }
 
-  // Reverse index, filled in entry order so the gather order is fixed.
+  index_partners(n);
+
+#pragma omp parallel for if(n >= parallel_min_items()) schedule(static)
+  for (std::size_t i = 0; i < n; ++i) p.x_at_build[i] = p.x[i];
+  ++builds_;
+}
+
+void NeighborList::index_partners(std::size_t n) {
+  // Reverse index, filled in entry order so the gather order is fixed (a function of partner_ alone).
   rev_start_.assign(n + 1, 0);
   for (std::uint32_t k = 0; k < partner_.size(); ++k) ++rev_start_[partner_[k] + 1];
   for (std::size_t i = 0; i < n; ++i) rev_start_[i + 1] += rev_start_[i];
   rev_fill_.assign(rev_start_.begin(), rev_start_.end() - 1);
   rev_entry_.resize(partner_.size());
   for (std::uint32_t k = 0; k < partner_.size(); ++k) rev_entry_[rev_fill_[partner_[k]]++] = k;
+}
 
-#pragma omp parallel for if(n >= parallel_min_items()) schedule(static)
-  for (std::size_t i = 0; i < n; ++i) p.x_at_build[i] = p.x[i];
-  ++builds_;
+void NeighborList::restore(const Particles& p, double skin, std::vector<std::uint32_t> start,
+                           std::vector<std::uint32_t> partner, std::vector<ContactHistory> history, std::size_t builds) {
+  // The invariants build() guarantees and the force loop relies on (no bounds checks there). The list
+  // may cover fewer particles than `p` holds: those added since the build, at the end, have no entries
+  // yet (stale() then asks for a rebuild, which carries the histories over).
+  auto bad = [](const std::string& why) { throw std::invalid_argument("neighbour list: " + why); };
+  if (start.empty() || start.size() > p.size() + 1) {
+    bad(std::to_string(start.size()) + " row starts for " + std::to_string(p.size()) + " particles (expected N + 1)");
+  }
+  const std::size_t n = start.size() - 1;
+  if (start[0] != 0 || start[n] != partner.size()) bad("row starts do not span the " + std::to_string(partner.size()) + " entries");
+  if (history.size() != partner.size()) bad("contact histories and entries differ in number");
+  for (std::size_t i = 0; i < n; ++i) {
+    if (start[i + 1] < start[i]) bad("row starts decrease at slot " + std::to_string(i));
+    for (std::uint32_t k = start[i]; k < start[i + 1]; ++k) {
+      const std::uint32_t j = partner[k];
+      // Half list keyed on id; no pairs inside a body.
+      if (j >= n || p.id[j] <= p.id[i] || p.body[j] == p.body[i]) {
+        bad("entry " + std::to_string(k) + " (slot " + std::to_string(i) + " with " + std::to_string(j) +
+            ") is not a pair of the half list");
+      }
+    }
+  }
+  if (!(skin >= 0) || !std::isfinite(skin)) bad("skin must be finite and non-negative");
+  start_ = std::move(start);
+  partner_ = std::move(partner);
+  history_ = std::move(history);
+  skin_ = skin;
+  builds_ = builds;
+  index_partners(n);
 }
 
 std::size_t NeighborList::bytes() const {

@@ -46,11 +46,24 @@ class NeighborList {
   std::size_t entries() const { return partner_.size(); }
   std::size_t builds() const { return builds_; }
   double skin() const { return skin_; }
+
+  /// The list as built, in CSR form (entries of slot i are [starts()[i], starts()[i+1])), and each
+  /// entry's contact history: what a checkpoint stores (dem/checkpoint.hpp).
+  const std::vector<std::uint32_t>& starts() const { return start_; }
+  const std::vector<std::uint32_t>& partners() const { return partner_; }
+  const std::vector<ContactHistory>& histories() const { return history_; }
+  /// Reinstate a list saved from starts(), partners() and histories() for particles `p` in the slot
+  /// order they had then (plus any added since, at the end); the reverse index is rebuilt from it. The next build() carries the
+  /// histories over exactly as it would have from the original list. Throws std::invalid_argument
+  /// (nothing changed) if the arrays are not a valid half list for `p`.
+  void restore(const Particles& p, double skin, std::vector<std::uint32_t> start, std::vector<std::uint32_t> partner,
+               std::vector<ContactHistory> history, std::size_t builds);
   /// Bytes held by the list (for memory reports).
   std::size_t bytes() const;
 
  private:
   int cell_of(const Vec3& x) const;
+  void index_partners(std::size_t n);
 
   // Cell grid of the current build.
   Vec3 origin_;

@@ -22,6 +22,19 @@ class Pour {
   std::uint64_t waits() const { return waits_; }  // times the region had no room
   const ParticleBatch& batch() const { return batch_; }
 
+  /// What changes as the pour runs: what a checkpoint stores (dem/checkpoint.hpp).
+  struct State {
+    double next = 0;           // s: time of the next insertion
+    double mass = 0;           // kg poured so far
+    double particle_mass = 0;  // kg, 0 until the first insertion computes it
+    std::uint64_t count = 0, waits = 0;
+    bool done = false;
+  };
+  State state() const { return {next_, mass_, particle_mass_, count_, waits_, done_}; }
+  void restore(const State& s) {
+    next_ = s.next, mass_ = s.mass, particle_mass_ = s.particle_mass, count_ = s.count, waits_ = s.waits, done_ = s.done;
+  }
+
  private:
   ParticleBatch batch_;
   double rate_, start_, interval_, next_;

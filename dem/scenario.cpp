@@ -1,6 +1,7 @@
 #include "dem/scenario.hpp"
 
 #include <array>
+#include <cstdio>
 #include <limits>
 #include <sstream>
 
@@ -155,9 +156,117 @@ Scenario load_scenario(const std::string& file) {
   s.output_directory = out.string("directory");
   s.snapshot_interval = out.number_or("snapshot_interval", 0.0, Range::non_negative());
   s.progress_interval = out.number_or("progress_interval", 5.0, Range::positive());
+  s.checkpoint_interval = out.number_or("checkpoint_interval", 600.0, Range::positive());
   out.finish();
   root.finish();
   return s;
+}
+
+namespace {
+
+std::string exact(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.17g", x);
+  return buf;
+}
+std::string exact(const Vec3& v) { return "[" + exact(v.x) + ", " + exact(v.y) + ", " + exact(v.z) + "]"; }
+std::string exact(const Quat& q) {
+  return "[" + exact(q.w) + ", " + exact(q.x) + ", " + exact(q.y) + ", " + exact(q.z) + "]";
+}
+
+/// FNV-1a over the bytes of a few arrays: a short, exact stand-in for a mesh or a shape in the
+/// fingerprint (changing one coordinate in its last bit changes it).
+class Fnv1a {
+ public:
+  template <class T>
+  void add(const std::vector<T>& v) {
+    const auto* p = reinterpret_cast<const unsigned char*>(v.data());
+    for (std::size_t k = 0; k < v.size() * sizeof(T); ++k) h_ = (h_ ^ p[k]) * 0x100000001b3ULL;
+  }
+  std::string hex() const {
+    char buf[20];
+    std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(h_));
+    return buf;
+  }
+
+ private:
+  std::uint64_t h_ = 0xcbf29ce484222325ULL;
+};
+
+}  // namespace
+
+std::vector<std::string> scenario_fingerprint(const Scenario& s) {
+  std::vector<std::string> f;
+  auto line = [&](const std::string& key, const std::string& value) { f.push_back(key + ": " + value); };
+  line("seed", std::to_string(s.seed));
+  const MaterialTable mt = MaterialTable::load(s.materials_file);
+  for (int a = 0; a < mt.size(); ++a) {
+    line("materials." + mt[a].name,
+         exact(mt[a].density) + " kg/m^3, G " + exact(mt[a].shear_modulus) + " Pa, nu " + exact(mt[a].poisson_ratio));
+    for (int b = a; b < mt.size(); ++b) {
+      if (!mt.has_pair(a, b)) continue;
+      const PairProperties& p = mt.pair(a, b);
+      line("pairs." + mt[a].name + "-" + mt[b].name, "e " + exact(p.restitution) + ", mu " + exact(p.friction) +
+                                                         ", mu_r " + exact(p.rolling_friction));
+    }
+  }
+  const SimulationSettings& st = s.settings;
+  line("scale_factor", exact(st.scale_factor));
+  line("gravity", exact(st.gravity));
+  line("contact.rolling", rolling_model_names()[static_cast<int>(st.rolling.model)]);
+  line("contact.epsd_stiffness_factor", exact(st.rolling.epsd_stiffness_factor));
+  line("contact.epsd_damping_ratio", exact(st.rolling.epsd_damping_ratio));
+  line("contact.max_overlap", exact(st.max_overlap_ratio));
+  line("time.step", exact(st.time_step));
+  line("time.step_fraction", exact(st.time_step_fraction));
+  line("time.skin", exact(st.skin));
+  line("time.pour_interval", exact(s.pour_interval));
+  line("time.stability_interval", std::to_string(st.stability_interval));
+  // Motions are compared through where they put the wall at these times (s): spread over the
+  // scales of a shaking run, and not round numbers, so that phase shifts and delays show.
+  static const double kSampleTimes[] = {0, 0.0123, 0.137, 0.71, 1.93, 4.37, 11.7, 63.1, 301.7, 1811.3, 86400.7};
+  for (std::size_t w = 0; w < s.walls.size(); ++w) {
+    const WallSpec& ws = s.walls[w];
+    const std::string key = "walls[" + std::to_string(w) + "]";
+    line(key + ".name", ws.name);
+    line(key + ".material", ws.material);
+    if (const auto* mesh = dynamic_cast<const MeshGeometry*>(ws.geometry.get())) {
+      Fnv1a h;
+      h.add(mesh->mesh().vertices);
+      h.add(mesh->mesh().triangles);
+      line(key + ".geometry", "mesh of " + std::to_string(mesh->mesh().triangles.size()) + " triangles, hash " + h.hex());
+    } else {
+      line(key + ".geometry", ws.geometry->describe());
+    }
+    line(key + ".pose", exact(ws.pose.origin) + " " + exact(ws.pose.orientation));
+    if (ws.motion.profile) {
+      line(key + ".pivot", exact(ws.motion.pivot));
+      for (double t : kSampleTimes) {
+        const RigidMotionState m = ws.motion.profile->at(t);
+        line(key + ".motion(" + exact(t) + ")", exact(m.rotation) + " " + exact(m.displacement) + " " +
+                                                    exact(m.angular_velocity) + " " + exact(m.velocity));
+      }
+    }
+  }
+  for (std::size_t k = 0; k < s.particles.size(); ++k) {
+    const BatchSpec& b = s.particles[k];
+    const ParticleBatch& p = b.batch;
+    const std::string key = "particles[" + std::to_string(k) + "]";
+    line(key + ".material", b.material);
+    if (p.shape) {
+      Fnv1a h;
+      h.add(p.shape->spheres);
+      line(key + ".shape", p.shape->name + " (" + std::to_string(p.shape->spheres.size()) + " spheres, hash " + h.hex() +
+                               "), particle_mass " + exact(b.particle_mass));
+    } else {
+      line(key + ".diameter", exact(p.diameter) + " +- " + exact(p.diameter_spread));
+    }
+    line(key + ".amount", p.count > 0 ? std::to_string(p.count) + " particles" : exact(p.mass) + " kg");
+    line(key + ".region", exact(p.region_min) + " to " + exact(p.region_max));
+    line(key + ".velocity", exact(p.velocity));
+    line(key + ".rate", exact(b.rate) + " kg/s from " + exact(b.start) + " s");
+  }
+  return f;
 }
 
 namespace {
@@ -172,7 +281,7 @@ double smallest_radius(const ParticleBatch& b) {
 
 }  // namespace
 
-BuiltScenario build(const Scenario& s) {
+BuiltScenario build(const Scenario& s, bool place_particles) {
   MaterialTable materials = MaterialTable::load(s.materials_file);
   SimulationSettings settings = s.settings;
   bool pours = false;
@@ -211,6 +320,7 @@ BuiltScenario build(const Scenario& s) {
       out.pours.emplace_back(batch, b.rate, b.start, s.pour_interval);
       continue;
     }
+    if (!place_particles) continue;
     const InsertionReport r = insert_particles(*out.sim, batch, out.rng);
     std::ostringstream line;
     line << b.batch.label << ": placed " << r.placed << (batch.shape ? " " + batch.shape->name + " clumps" : " spheres")

@@ -43,10 +43,18 @@ struct Scenario {
   std::string output_directory;      // relative to the working directory unless absolute
   double snapshot_interval = 0;      // s simulated; 0 = only the final state
   double progress_interval = 5;      // s of wall-clock time between progress lines
+  double checkpoint_interval = 600;  // s of wall-clock time between checkpoints (and one at the end)
 };
 
 /// Parse and validate; every problem is an InputError naming file, line, key and allowed range.
 Scenario load_scenario(const std::string& file);
+
+/// Lines "key: value" that identify everything in a scenario that changes the dynamics: seed,
+/// materials and pairs (as loaded), contact and time-step settings, each wall (geometry, pose, its
+/// motion sampled at fixed times) and each batch. Not the end time, the settling threshold or the
+/// output settings, which a resumed run may change. Numbers are exact (17 significant digits); no
+/// line depends on where the files are. `--resume` compares these with the checkpoint's.
+std::vector<std::string> scenario_fingerprint(const Scenario& s);
 
 /// A scenario turned into a running system: the simulation, the pours still going, and the random
 /// numbers they draw from (seeded by the scenario, so runs repeat exactly).
@@ -65,7 +73,8 @@ struct BuiltScenario {
 
 /// Materials, walls and the particles placed at t = 0; pours are set up to run with advance().
 /// With an automatic time step and pours, the step is chosen now for the smallest particle of any
-/// batch, so poured particles never need a smaller one.
-BuiltScenario build(const Scenario& s);
+/// batch, so poured particles never need a smaller one. `place_particles` false leaves the t = 0
+/// batches out (a run resumed from a checkpoint gets its particles from there).
+BuiltScenario build(const Scenario& s, bool place_particles = true);
 
 }  // namespace grainscale::dem

@@ -7,6 +7,8 @@
 #include <numbers>
 #include <set>
 #include <sstream>
+#include <stdexcept>
+#include <string>
 
 #include "dem/input_error.hpp"
 #include "dem/rigid_rotation.hpp"
@@ -131,19 +133,23 @@ std::string Simulation::time_step_report() const {
   return s.str();
 }
 
-void Simulation::setup() {
+void Simulation::check_pairs_in_use(const Particles& p) const {
   // Every material pair that can meet must have interaction properties.
-  std::set<int> used(particles_.material.begin(), particles_.material.end());
+  std::set<int> used(p.material.begin(), p.material.end());
   for (int a : used) {
     for (int b : used) materials_.pair(a, b);
     for (const Wall& w : walls_) materials_.pair(a, w.material());
   }
-  for (std::size_t i = 0; i < particles_.size(); ++i) {
-    if (!std::isfinite(materials_[particles_.material[i]].shear_modulus)) {
-      throw InputError("material '" + materials_[particles_.material[i]].name +
+  for (int m : used) {
+    if (!std::isfinite(materials_[m].shear_modulus)) {
+      throw InputError("material '" + materials_[m].name +
                        "' is rigid (infinite shear modulus) and cannot be used for particles");
     }
   }
+}
+
+void Simulation::setup() {
+  check_pairs_in_use(particles_);
   if (settings_.time_step > 0) {
     dt_ = settings_.time_step;
   } else {
@@ -161,6 +167,126 @@ void Simulation::setup() {
   ready_ = true;
 }
 
+namespace {
+
+/// Counting sort of sphere slots by body; within a body, slot order (fixed for a given state).
+void index_spheres(const Particles& p, Bodies& b, std::vector<std::uint32_t>& fill) {
+  const std::size_t nb = b.size(), ns = p.size();
+  b.sphere_start.assign(nb + 1, 0);
+  for (std::size_t s = 0; s < ns; ++s) ++b.sphere_start[p.body[s] + 1];
+  for (std::size_t k = 0; k < nb; ++k) b.sphere_start[k + 1] += b.sphere_start[k];
+  b.sphere_slot.resize(ns);
+  fill.assign(b.sphere_start.begin(), b.sphere_start.end() - 1);
+  for (std::size_t s = 0; s < ns; ++s) b.sphere_slot[fill[p.body[s]]++] = static_cast<std::uint32_t>(s);
+}
+
+/// Throw std::invalid_argument unless every array of `p` has the length of `p.id`, and likewise for `b`.
+void check_lengths(const Particles& p, const Bodies& b) {
+  const std::size_t n = p.size(), nb = b.size();
+  auto same = [](std::size_t got, std::size_t want, const char* what) {
+    if (got != want) {
+      throw std::invalid_argument(std::string(what) + " has " + std::to_string(got) + " entries, expected " +
+                                  std::to_string(want));
+    }
+  };
+  same(p.material.size(), n, "particles.material");
+  same(p.body.size(), n, "particles.body");
+  same(p.offset.size(), n, "particles.offset");
+  same(p.radius.size(), n, "particles.radius");
+  same(p.mass.size(), n, "particles.mass");
+  same(p.inertia.size(), n, "particles.inertia");
+  same(p.mass_share.size(), n, "particles.mass_share");
+  same(p.x.size(), n, "particles.x");
+  same(p.v.size(), n, "particles.v");
+  same(p.omega.size(), n, "particles.omega");
+  same(p.force.size(), n, "particles.force");
+  same(p.torque.size(), n, "particles.torque");
+  same(p.q.size(), n, "particles.q");
+  same(p.x_at_build.size(), n, "particles.x_at_build");
+  same(b.shape.size(), nb, "bodies.shape");
+  same(b.mass.size(), nb, "bodies.mass");
+  same(b.inv_mass.size(), nb, "bodies.inv_mass");
+  same(b.inertia.size(), nb, "bodies.inertia");
+  same(b.x.size(), nb, "bodies.x");
+  same(b.v.size(), nb, "bodies.v");
+  same(b.L.size(), nb, "bodies.L");
+  same(b.omega.size(), nb, "bodies.omega");
+  same(b.q.size(), nb, "bodies.q");
+  same(b.force.size(), nb, "bodies.force");
+  same(b.torque.size(), nb, "bodies.torque");
+}
+
+}  // namespace
+
+void Simulation::restore(SimulationState&& s) {
+  // Check everything first, so that a bad state leaves this simulation as it was.
+  Particles& p = s.particles;
+  Bodies& b = s.bodies;
+  check_lengths(p, b);
+  const std::size_t n = p.size(), nb = b.size();
+  auto bad = [](const std::string& why) { throw std::invalid_argument(why); };
+  if (n > std::numeric_limits<std::uint32_t>::max() - 1 || nb > std::numeric_limits<std::uint32_t>::max()) {
+    bad("too many particles or bodies for 32-bit slot indices");
+  }
+  if (!(s.dt > 0) || !std::isfinite(s.dt)) bad("the time step must be positive and finite");
+  if (!std::isfinite(s.time)) bad("the time must be finite");
+  for (std::size_t k = 0; k < nb; ++k) {
+    if (b.id[k] != k) bad("bodies.id must be 0, 1, 2, ... (body " + std::to_string(k) + " has id " + std::to_string(b.id[k]) + ")");
+    if (b.shape[k] < -1 || b.shape[k] >= static_cast<std::int64_t>(s.shape_names.size())) {
+      bad("body " + std::to_string(k) + " has shape index " + std::to_string(b.shape[k]) + " outside [-1, " +
+          std::to_string(s.shape_names.size()) + ")");
+    }
+  }
+  std::vector<std::uint64_t> ids(p.id);
+  std::sort(ids.begin(), ids.end());
+  if (std::adjacent_find(ids.begin(), ids.end()) != ids.end()) bad("two particles have the same id");
+  if (n > 0 && ids.back() >= s.next_sphere_id) bad("a particle id is not below the next id to be given");
+  for (std::size_t i = 0; i < n; ++i) {
+    if (p.material[i] < 0 || p.material[i] >= materials_.size()) {
+      bad("particle slot " + std::to_string(i) + " has material index " + std::to_string(p.material[i]) +
+          " outside [0, " + std::to_string(materials_.size()) + ")");
+    }
+    if (p.body[i] >= nb) bad("particle slot " + std::to_string(i) + " belongs to no body");
+  }
+  check_pairs_in_use(p);
+  // (Wall contacts and the neighbour list may cover fewer particles: those added since the last step.)
+  if (s.wall_count.size() > n) bad("more wall contact counts than particles");
+  // The per-body sphere index is a function of the slot order: rebuild it, and refuse a state whose
+  // stored index disagrees (it would not have come from a Simulation).
+  std::vector<std::uint32_t> saved_start, saved_slot, fill;
+  saved_start.swap(b.sphere_start);
+  saved_slot.swap(b.sphere_slot);
+  index_spheres(p, b, fill);
+  if ((!saved_start.empty() && saved_start != b.sphere_start) || (!saved_slot.empty() && saved_slot != b.sphere_slot)) {
+    bad("bodies.sphere_start/sphere_slot do not match the slot order of the particles");
+  }
+  // Validate the neighbour list and wall contacts in scratch objects before touching ours.
+  NeighborList nl;
+  nl.restore(p, s.skin, std::move(s.neighbor_start), std::move(s.neighbor_partner), std::move(s.neighbor_history),
+             s.neighbor_builds);
+  ForceField ff;
+  ff.restore_wall_contacts(s.wall_count, s.wall_slots, walls_.size());
+
+  // Commit (nothing below throws but forces_.setup, which depends only on materials and walls).
+  forces_.setup(materials_, walls_, settings_.rolling);
+  forces_.restore_wall_contacts(s.wall_count, s.wall_slots, walls_.size());
+  neighbors_ = std::move(nl);
+  particles_ = std::move(p);
+  bodies_ = std::move(b);
+  shape_names_ = std::move(s.shape_names);
+  time_ = s.time;
+  dt_ = s.dt;
+  skin_ = s.skin;
+  steps_ = s.steps;
+  next_sphere_id_ = s.next_sphere_id;
+  diag_ = s.diagnostics;
+  stability_ = s.stability;
+  worst_stability_ = s.worst_stability;
+  moved2_ = 0;  // recomputed by the next step's drift before it is used
+  for (Wall& w : walls_) w.move_to(time_);
+  ready_ = true;
+}
+
 void Simulation::rebuild() {
   forces_.resize(particles_.size());  // wall-contact slots for particles added since the last build
   const std::vector<std::uint32_t>& order = neighbors_.sort_by_cell(particles_, skin_);
@@ -170,18 +296,8 @@ void Simulation::rebuild() {
   index_spheres_by_body();
 }
 
-void Simulation::index_spheres_by_body() {
-  // Counting sort of sphere slots by body; within a body, slot order (fixed for a given state).
-  Bodies& b = bodies_;
-  const std::size_t nb = b.size(), ns = particles_.size();
-  b.sphere_start.assign(nb + 1, 0);
-  for (std::size_t s = 0; s < ns; ++s) ++b.sphere_start[particles_.body[s] + 1];
-  for (std::size_t k = 0; k < nb; ++k) b.sphere_start[k + 1] += b.sphere_start[k];
-  b.sphere_slot.resize(ns);
-  std::vector<std::uint32_t>& fill = body_fill_;
-  fill.assign(b.sphere_start.begin(), b.sphere_start.end() - 1);
-  for (std::size_t s = 0; s < ns; ++s) b.sphere_slot[fill[particles_.body[s]]++] = static_cast<std::uint32_t>(s);
-}
+
+void Simulation::index_spheres_by_body() { index_spheres(particles_, bodies_, body_fill_); }
 
 void Simulation::compute_forces() {
   diag_ = forces_.compute(particles_, neighbors_, walls_, dt_);

@@ -53,6 +53,24 @@ struct Energy {
   double total() const { return kinetic_translation + kinetic_rotation + potential + elastic_normal + elastic_tangential; }
 };
 
+/// The complete dynamic state of a Simulation between two steps, as a checkpoint holds it
+/// (dem/checkpoint.hpp) and Simulation::restore takes it back. Sphere arrays are in slot order: the
+/// force sums run over slots and neighbour-list entries, so continuing bit for bit needs the same
+/// order, not just the same particles. Walls are not here: their poses follow from the time.
+struct SimulationState {
+  double time = 0, dt = 0, skin = 0;
+  std::uint64_t steps = 0, next_sphere_id = 0, neighbor_builds = 0;
+  Particles particles;                    // every array, x_at_build included
+  Bodies bodies;                          // every array; sphere_start/slot are checked, then rebuilt
+  std::vector<std::string> shape_names;
+  std::vector<std::uint32_t> neighbor_start, neighbor_partner;  // NeighborList::starts(), partners()
+  std::vector<ContactHistory> neighbor_history;
+  std::vector<std::uint8_t> wall_count;   // per slot: wall contacts in use
+  std::vector<WallSlot> wall_slots;       // those contacts, slot by slot (sum of wall_count)
+  ForceDiagnostics diagnostics;           // of the last force computation
+  StepStability stability, worst_stability;
+};
+
 class Simulation {
  public:
   Simulation(MaterialTable materials, SimulationSettings settings);
@@ -99,11 +117,25 @@ class Simulation {
   /// Check step stability now (also done every settings().stability_interval steps).
   const StepStability& check_stability();
 
+  /// Put this simulation into a saved state: its materials and walls (same order) must be those of the
+  /// simulation the state came from; everything else is replaced. The next step continues exactly as
+  /// the original would have, bit for bit. No setup() needed afterwards. Throws std::invalid_argument,
+  /// leaving the simulation unchanged, if the state is inconsistent or does not fit the materials and
+  /// walls.
+  void restore(SimulationState&& state);
+  /// For checkpoints: the id the next sphere will get, the neighbour skin in use, the wall contacts.
+  std::uint64_t next_sphere_id() const { return next_sphere_id_; }
+  double skin() const { return skin_; }
+  const ForceField& force_field() const { return forces_; }
+  /// Set up (time step chosen, forces computed)?
+  bool ready() const { return ready_; }
+
   Energy energy() const;
   /// Bytes of particle, neighbour and contact data (memory report).
   std::size_t bytes() const;
 
  private:
+  void check_pairs_in_use(const Particles& p) const;
   void rebuild();
   void compute_forces();
   void check_health();

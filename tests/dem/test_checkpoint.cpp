@@ -1,0 +1,192 @@
+// Checkpoint/restart: N steps in one go equal N/2 steps, a checkpoint, a restore into a fresh
+// simulation built from the same scenario, and N/2 more - bit for bit, on 1 and 2 threads, with
+// clumps, wall-contact histories on a moving mesh wall and a pour in progress (dem/checkpoint.hpp).
+#include <hdf5.h>
+#include <omp.h>
+
+#include <catch2/catch.hpp>
+#include <cstring>
+#include <filesystem>
+#include <string>
+
+#include "checkpoint_fixture.hpp"
+#include "dem/checkpoint.hpp"
+#include "dem/input_error.hpp"
+#include "dem/scenario.hpp"
+#include "dem/snapshot.hpp"
+#include "parallel_everything.hpp"
+
+using namespace grainscale;
+using namespace grainscale::dem;
+using Catch::Matchers::Contains;
+
+namespace {
+
+constexpr std::uint64_t kSteps = 1600;
+
+BuiltScenario started(const std::string& scenario) {
+  BuiltScenario run = build(load_scenario(scenario));
+  run.sim->setup();
+  return run;
+}
+
+void advance(BuiltScenario& run, std::uint64_t steps) {
+  for (std::uint64_t k = 0; k < steps; ++k) run.advance();
+}
+
+/// Wall contacts in use with a non-zero tangential history, over all spheres.
+int wall_histories(const Simulation& sim) {
+  const ForceField& f = sim.force_field();
+  int n = 0;
+  for (std::size_t i = 0; i < f.wall_counts().size(); ++i)
+    for (int s = 0; s < f.wall_counts()[i]; ++s) n += norm2(f.wall_slots()[i * ForceField::kWallSlots + s].history.shear) > 0;
+  return n;
+}
+
+int pair_histories(const Simulation& sim) {
+  int n = 0;
+  for (const ContactHistory& h : sim.neighbors().histories()) n += norm2(h.shear) > 0 && norm2(h.rolling) > 0;
+  return n;
+}
+
+}  // namespace
+
+TEST_CASE("A run restored from a checkpoint continues bit for bit, on 1 and 2 threads", "[dem][checkpoint]") {
+  const testing::ParallelEverything guard;  // every loop parallel, however small
+  const testing::CheckpointTempDir dir;
+  const std::string scenario = testing::write_checkpoint_scenario(dir, 1.0);
+  const int threads = GENERATE(1, 2);
+  omp_set_num_threads(threads);
+  INFO(threads << " threads");
+
+  // Uninterrupted.
+  BuiltScenario whole = started(scenario);
+  advance(whole, kSteps);
+
+  // Half, checkpoint, a fresh build of the same scenario, restore, the other half.
+  const std::string file = dir / ("half_" + std::to_string(threads) + ".h5");
+  {
+    BuiltScenario first = started(scenario);
+    advance(first, kSteps / 2);
+    // What the checkpoint must carry is really there half-way: clumps, histories, a pour under way,
+    // a wall that has moved.
+    REQUIRE(first.sim->shape_names().size() == 1);
+    REQUIRE(first.pouring());
+    REQUIRE(first.pours[0].poured_count() > 0);
+    REQUIRE(wall_histories(*first.sim) > 3);
+    REQUIRE(pair_histories(*first.sim) > 3);
+    REQUIRE(first.sim->walls()[0].pose().origin.x != 0);
+    REQUIRE(first.sim->neighbors().builds() > 1);
+    write_checkpoint(file, first);
+  }
+  BuiltScenario second = build(load_scenario(scenario));
+  restore_checkpoint(read_checkpoint(file), second);
+  const std::size_t spheres_at_restore = second.sim->particles().size();
+  const std::size_t builds_at_restore = second.sim->neighbors().builds();
+  advance(second, kSteps - kSteps / 2);
+
+  // The second half poured more particles and rebuilt the list: the restored state was exercised.
+  CHECK(second.sim->particles().size() > spheres_at_restore);
+  CHECK(second.sim->neighbors().builds() > builds_at_restore);
+  testing::require_identical(*whole.sim, *second.sim);
+  CHECK(second.pours[0].poured_count() == whole.pours[0].poured_count());
+  CHECK(second.rng.uniform() == whole.rng.uniform());
+  omp_set_num_threads(2);
+}
+
+TEST_CASE("Restoring a checkpoint and writing it again gives the same bytes", "[dem][checkpoint]") {
+  // Everything stored is read back as it was (no field forgotten on either side).
+  const testing::CheckpointTempDir dir;
+  const std::string scenario = testing::write_checkpoint_scenario(dir, 1.0);
+  BuiltScenario first = started(scenario);
+  advance(first, 300);
+  RunRecord record;
+  record.scenario = scenario_fingerprint(load_scenario(scenario));
+  record.next_snapshot = 0.0125;
+  record.snapshot_time = {0, 0.01};
+  record.snapshot_file = {"snapshots/snap_000000.h5", "snapshots/snap_000001.h5"};
+  record.snapshot_particles = {100, 120};
+  record.wall_seconds = 12.5;
+  record.warned_stability = true;
+  write_checkpoint(dir / "a.h5", first, &record);
+  BuiltScenario second = build(load_scenario(scenario));
+  Checkpoint c = read_checkpoint(dir / "a.h5");
+  CHECK(c.code_version == checkpoint_code_version());
+  CHECK(c.run.scenario == record.scenario);
+  CHECK(c.run.snapshot_file == record.snapshot_file);
+  restore_checkpoint(std::move(c), second);
+  write_checkpoint(dir / "b.h5", second, &record);
+  CHECK(testing::slurp_file(dir / "a.h5") == testing::slurp_file(dir / "b.h5"));
+  // A checkpoint of a bare simulation (no scenario) round-trips too.
+  write_checkpoint(dir / "bare.h5", *first.sim);
+  Simulation copy = *build(load_scenario(scenario), false).sim;
+  restore_checkpoint(read_checkpoint(dir / "bare.h5"), copy);
+  write_checkpoint(dir / "bare2.h5", copy);
+  CHECK(testing::slurp_file(dir / "bare.h5") == testing::slurp_file(dir / "bare2.h5"));
+}
+
+TEST_CASE("Bad checkpoints and mismatched simulations are refused, naming the file", "[dem][checkpoint]") {
+  const testing::CheckpointTempDir dir;
+  const std::string scenario = testing::write_checkpoint_scenario(dir, 1.0);
+  BuiltScenario run = started(scenario);
+  advance(run, 50);
+  const std::string good = dir / "good.h5";
+  write_checkpoint(good, run);
+
+  SECTION("missing file, not HDF5, a snapshot") {
+    CHECK_THROWS_WITH(read_checkpoint(dir / "none.h5"), Contains("none.h5") && Contains("does not exist"));
+    std::ofstream(dir / "text.h5") << "not hdf5";
+    CHECK_THROWS_WITH(read_checkpoint(dir / "text.h5"), Contains("text.h5") && Contains("not an HDF5 file"));
+    write_snapshot(*run.sim, dir / "snap.h5", {"x", 1});
+    CHECK_THROWS_WITH(read_checkpoint(dir / "snap.h5"), Contains("snap.h5") && Contains("not a grainscale checkpoint"));
+  }
+  SECTION("a dataset missing or of the wrong shape") {
+    for (const char* victim : {"/neighbors/history", "/particles/position_at_build"}) {
+      const std::string broken = dir / "broken.h5";
+      std::filesystem::copy_file(good, broken, std::filesystem::copy_options::overwrite_existing);
+      const hid_t f = H5Fopen(broken.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+      REQUIRE(f >= 0);
+      REQUIRE(H5Ldelete(f, victim, H5P_DEFAULT) >= 0);
+      H5Fclose(f);
+      CHECK_THROWS_AS(read_checkpoint(broken), InputError);
+      CHECK_THROWS_WITH(read_checkpoint(broken), Contains("broken.h5") && Contains(victim));
+    }
+  }
+  SECTION("another simulation: other walls or materials") {
+    Simulation other(run.sim->materials(), run.sim->settings());
+    CHECK_THROWS_WITH(restore_checkpoint(read_checkpoint(good), other), Contains("good.h5") && Contains("walls [box, shelf]"));
+  }
+  SECTION("an inconsistent state leaves the simulation as it was") {
+    Checkpoint c = read_checkpoint(good);
+    REQUIRE(c.simulation.neighbor_partner.size() > 0);
+    c.simulation.neighbor_partner[0] = static_cast<std::uint32_t>(c.simulation.particles.size());
+    BuiltScenario fresh = started(scenario);
+    const std::vector<Vec3> before = fresh.sim->bodies().x;
+    CHECK_THROWS_WITH(restore_checkpoint(std::move(c), fresh), Contains("good.h5") && Contains("neighbour list"));
+    CHECK(fresh.sim->bodies().x == before);
+    fresh.advance();  // still usable
+  }
+  SECTION("a scenario run needs the pours and random numbers") {
+    BuiltScenario fresh = build(load_scenario(scenario));
+    write_checkpoint(dir / "bare.h5", *run.sim);
+    CHECK_THROWS_WITH(restore_checkpoint(read_checkpoint(dir / "bare.h5"), fresh), Contains("not a scenario run"));
+  }
+}
+
+TEST_CASE("A blown-up state is never written over a good checkpoint", "[dem][checkpoint]") {
+  const testing::CheckpointTempDir dir;
+  const std::string scenario = testing::write_checkpoint_scenario(dir, 1.0);
+  BuiltScenario run = started(scenario);
+  advance(run, 20);
+  const std::string file = dir / "checkpoint.h5";
+  write_checkpoint(file, run);
+  const std::string before = testing::slurp_file(file);
+  // A NaN velocity, as a blow-up leaves behind.
+  Simulation broken = *run.sim;
+  Checkpoint c = read_checkpoint(file);
+  c.simulation.bodies.v[3].x = std::numeric_limits<double>::quiet_NaN();
+  restore_checkpoint(std::move(c), broken);
+  CHECK_THROWS_WITH(write_checkpoint(file, broken), Contains(file) && Contains("non-finite") && Contains("kept"));
+  CHECK(testing::slurp_file(file) == before);
+  CHECK_FALSE(std::filesystem::exists(file + ".tmp"));
+}
