@@ -45,22 +45,118 @@ std::vector<double> read_dataset(hid_t file, const std::string& path, const std:
 
 }  // namespace
 
-GriddedFlow GriddedFlow::load(const std::string& path, double length) {
+namespace {
+
+/// Attribute `name` of `obj` as an int, or `fallback` when absent.
+int int_attribute(hid_t obj, const char* name, int fallback) {
+  if (H5Aexists(obj, name) <= 0) return fallback;
+  const hid_t a = H5Aopen(obj, name, H5P_DEFAULT);
+  int v = fallback;
+  H5Aread(a, H5T_NATIVE_INT, &v);
+  H5Aclose(a);
+  return v;
+}
+
+/// The coarse-graining stage's field file (docs/coarsegrain_layout.md, cg_layout_version 1) on a
+/// 2-D (x, z) grid: u = x-component of /frames/NNNNNN/mixture/velocity [nz][1][nx][3], γ̇ =
+/// shear_rate [nz][1][nx], h = surface_height [1][nx]. Columns the bed does not reach (h = 0 or
+/// NaN) are dropped; below a column's surface every value must be finite; above it (no grain) u and
+/// γ̇ are irrelevant and set to 0.
+void read_cg_fields(hid_t file, const std::string& path, int frame, std::vector<double>& x, std::vector<double>& z,
+                    std::vector<double>& u, std::vector<double>& rate, std::vector<double>& h) {
+  const hid_t grid = H5Gopen2(file, "/grid", H5P_DEFAULT);
+  if (grid < 0) throw InputError(path + ": coarse-grained field file without '/grid'");
+  const int dimension = int_attribute(grid, "dimension", 0);
+  H5Gclose(grid);
+  if (dimension != 2) throw InputError(path + ": the continuum model needs a 2-D (x, z) coarse-grained grid, this one is " + std::to_string(dimension) + "-D");
+  const hid_t frames = H5Gopen2(file, "/frames", H5P_DEFAULT);
+  const int count = frames >= 0 ? int_attribute(frames, "count", 0) : 0;
+  if (frames >= 0) H5Gclose(frames);
+  if (count <= 0) throw InputError(path + ": no frames in '/frames'");
+  if (frame < 0) frame += count;
+  if (frame < 0 || frame >= count) {
+    throw InputError(path + ": frame " + std::to_string(frame) + " requested, the file has frames 0 to " + std::to_string(count - 1));
+  }
+  char name[32];
+  std::snprintf(name, sizeof name, "/frames/%06d/", frame);
+  const std::string f = name;
+  std::vector<hsize_t> dx, dz, dv, dr, dh;
+  std::vector<double> xs = read_dataset(file, path, "/grid/x", dx);
+  z = read_dataset(file, path, "/grid/z", dz);
+  // NaN is allowed in the raw fields (empty cells); filtered below.
+  auto read_raw = [&](const std::string& n, std::vector<hsize_t>& dims) {
+    if (H5Lexists(file, n.c_str(), H5P_DEFAULT) <= 0) throw InputError(path + ": missing dataset '" + n + "'");
+    const hid_t set = H5Dopen2(file, n.c_str(), H5P_DEFAULT);
+    const hid_t space = H5Dget_space(set);
+    const int rank = H5Sget_simple_extent_ndims(space);
+    dims.assign(static_cast<std::size_t>(std::max(rank, 0)), 0);
+    H5Sget_simple_extent_dims(space, dims.data(), nullptr);
+    hsize_t n_all = 1;
+    for (hsize_t d : dims) n_all *= d;
+    std::vector<double> data(n_all);
+    const herr_t st = H5Dread(set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data());
+    H5Sclose(space);
+    H5Dclose(set);
+    if (st < 0) throw InputError(path + ": cannot read '" + n + "' as numbers");
+    return data;
+  };
+  const std::vector<double> vel = read_raw(f + "mixture/velocity", dv);
+  const std::vector<double> gam = read_raw(f + "shear_rate", dr);
+  const std::vector<double> hs = read_raw(f + "surface_height", dh);
+  const std::size_t nx = xs.size(), nz = z.size();
+  if (dv != std::vector<hsize_t>{nz, 1, nx, 3} || dr != std::vector<hsize_t>{nz, 1, nx} || dh != std::vector<hsize_t>{1, nx}) {
+    throw InputError(path + ": frame " + std::to_string(frame) + ": fields do not match the 2-D grid (" +
+                     std::to_string(nx) + " x " + std::to_string(nz) + ")");
+  }
+  std::vector<std::size_t> keep;
+  for (std::size_t j = 0; j < nx; ++j) {
+    if (std::isfinite(hs[j]) && hs[j] > 0) keep.push_back(j);
+  }
+  if (keep.size() < 2) throw InputError(path + ": frame " + std::to_string(frame) + ": fewer than two columns hold grain");
+  x.clear();
+  h.clear();
+  u.assign(nz * keep.size(), 0.0);
+  rate.assign(nz * keep.size(), 0.0);
+  for (std::size_t c = 0; c < keep.size(); ++c) {
+    const std::size_t j = keep[c];
+    x.push_back(xs[j]);
+    h.push_back(hs[j]);
+    for (std::size_t k = 0; k < nz; ++k) {
+      const double uk = vel[(k * nx + j) * 3], gk = gam[k * nx + j];
+      if (z[k] > hs[j]) continue;  // above the surface: no grain
+      if (!std::isfinite(uk) || !std::isfinite(gk)) {
+        throw InputError(path + ": frame " + std::to_string(frame) + ": NaN velocity or shear rate below the surface at x = " +
+                         std::to_string(xs[j]) + " m, z = " + std::to_string(z[k]) + " m");
+      }
+      u[k * keep.size() + c] = uk;
+      rate[k * keep.size() + c] = std::max(gk, 0.0);
+    }
+  }
+}
+
+}  // namespace
+
+GriddedFlow GriddedFlow::load(const std::string& path, double length, int frame) {
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // errors are reported as InputError below
   const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
   if (file < 0) throw InputError(path + ": cannot open as HDF5");
   try {
-    std::vector<hsize_t> dx, dz, du, dr, dh;
-    auto x = read_dataset(file, path, "/x", dx);
-    auto z = read_dataset(file, path, "/z", dz);
-    auto u = read_dataset(file, path, "/u", du);
-    auto r = read_dataset(file, path, "/shear_rate", dr);
-    auto h = read_dataset(file, path, "/surface_height", dh);
-    H5Fclose(file);
-    const std::vector<hsize_t> field{z.size(), x.size()};
-    if (du != field || dr != field || h.size() != x.size()) {
-      throw InputError(path + ": /u and /shear_rate must be [nz][nx] and /surface_height [nx] for /x [nx], /z [nz]");
+    std::vector<double> x, z, u, r, h;
+    if (H5Aexists(file, "cg_layout_version") > 0) {
+      read_cg_fields(file, path, frame, x, z, u, r, h);
+    } else {
+      std::vector<hsize_t> dx, dz, du, dr, dh;
+      x = read_dataset(file, path, "/x", dx);
+      z = read_dataset(file, path, "/z", dz);
+      u = read_dataset(file, path, "/u", du);
+      r = read_dataset(file, path, "/shear_rate", dr);
+      h = read_dataset(file, path, "/surface_height", dh);
+      const std::vector<hsize_t> field{z.size(), x.size()};
+      if (du != field || dr != field || h.size() != x.size()) {
+        throw InputError(path + ": /u and /shear_rate must be [nz][nx] and /surface_height [nx] for /x [nx], /z [nz]");
+      }
     }
+    H5Fclose(file);
     return GriddedFlow(length, x, z, u, r, h);
   } catch (...) {
     H5Fclose(file);

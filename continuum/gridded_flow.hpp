@@ -16,8 +16,10 @@ namespace grainscale::continuum {
 
 class GriddedFlow final : public Flow {
  public:
-  /// Read the HDF5 layout of docs/continuum.md; `length` is the bed length L (walls at 0 and L).
-  static GriddedFlow load(const std::string& file, double length);
+  /// Read the HDF5 layout of docs/continuum.md, or a coarse-graining field file (fields.h5 of
+  /// `grainscale cg`, 2-D grid; `frame` selects the frame, negative counts from the end); `length`
+  /// is the bed length L (walls at 0 and L).
+  static GriddedFlow load(const std::string& file, double length, int frame = -1);
   GriddedFlow(double length, std::vector<double> x, std::vector<double> z, std::vector<double> u,
               std::vector<double> shear_rate, std::vector<double> surface_height);
 

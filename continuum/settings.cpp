@@ -42,6 +42,7 @@ void read_flow(YamlMap m, ContinuumSettings& s) {
   } else {
     s.flow.file = resolve_beside(s.source_file, m.string("file"));
     if (!std::filesystem::exists(s.flow.file)) throw InputError(m.where("file") + ": cannot find '" + s.flow.file + "'");
+    s.flow.frame = static_cast<int>(m.integer_or("frame", -1, -1000000, 1000000));  // coarse-grained files: which frame
   }
   m.finish();
 }
@@ -109,7 +110,7 @@ ContinuumSettings load_continuum_settings(const std::string& file) {
   root.finish();
   if (s.surface.empty()) {
     if (s.flow.type != "file") throw InputError(file + ": key 'grid': give 'depth' or 'surface' (or a flow file)");
-    const GriddedFlow flow = GriddedFlow::load(s.flow.file, s.length);
+    const GriddedFlow flow = GriddedFlow::load(s.flow.file, s.length, s.flow.frame);
     for (int f = 0; f <= s.nx; ++f) s.surface.push_back(flow.surface_height(s.length * f / s.nx));
   }
   (void)build_model(s);  // term names, parameters and the flow file are checked now, not mid-run
@@ -118,7 +119,7 @@ ContinuumSettings load_continuum_settings(const std::string& file) {
 
 std::shared_ptr<const Flow> build_flow(const ContinuumSettings& s, const Grid& grid) {
   if (s.flow.type == "uniform_shear") return std::make_shared<UniformShear>(s.flow.shear_rate);
-  if (s.flow.type == "file") return std::make_shared<GriddedFlow>(GriddedFlow::load(s.flow.file, s.length));
+  if (s.flow.type == "file") return std::make_shared<GriddedFlow>(GriddedFlow::load(s.flow.file, s.length, s.flow.frame));
   // The cell's ψ vanishes on the grid's own (piecewise-linear) surface.
   std::function<double(double)> h = [grid](double x) {
     const double u = std::clamp(x / grid.dx(), 0.0, static_cast<double>(grid.nx()));

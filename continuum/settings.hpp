@@ -20,6 +20,7 @@ struct FlowSettings {
   double background_shear = 0;    // cellular: γ̇ added everywhere [1/s]
   double shear_rate = 0;          // uniform_shear [1/s]
   std::string file;               // file: HDF5 fields (gridded_flow.hpp), resolved beside the YAML
+  int frame = -1;                 // file from `grainscale cg`: frame to use (negative: from the end)
 };
 
 struct InitialSettings {

@@ -29,9 +29,11 @@ const char* kUsage = R"(grainscale - chaff and grain movement in shaken bulk gra
 usage: grainscale <command> [options]
 
 commands:
-  dem SCENARIO.yaml [--out DIR] [--threads N]
+  dem SCENARIO.yaml [--out DIR] [--threads N] [--resume]
         run a DEM scenario: insert particles, step to the end time, write HDF5
-        snapshots (+ XDMF for ParaView), summary.yaml and log.txt in the output folder
+        snapshots (+ XDMF for ParaView), summary.yaml and log.txt in the output folder;
+        checkpoint.h5 there is updated every output.checkpoint_interval s of wall clock
+        and at the end, and --resume continues a stopped run from it, bit for bit
   bench SCENARIO.yaml [--steps N] [--threads LIST]
         settle the scenario to its end time, then time N further steps (default
         20000) from the same settled state on each thread count in LIST (default
@@ -61,6 +63,7 @@ struct Args {
   std::string png;
   double density = 0, mass = 0;
   long steps = 20000;
+  bool resume = false;
 };
 
 Args parse(int argc, char** argv, int first) {
@@ -87,6 +90,7 @@ Args parse(int argc, char** argv, int first) {
     else if (s == "--density") a.density = positive("--density");
     else if (s == "--mass") a.mass = positive("--mass");
     else if (s == "--threads") a.threads = value("--threads");
+    else if (s == "--resume") a.resume = true;
     else if (s == "--steps") {
       const std::string v = value("--steps");
       try {
@@ -118,9 +122,11 @@ std::vector<int> thread_list(const std::string& s, std::vector<int> fallback) {
 }
 
 int run_dem(const Args& a) {
-  if (a.positional.size() != 1) throw InputError("usage: grainscale dem SCENARIO.yaml [--out DIR] [--threads N]");
+  if (a.positional.size() != 1) {
+    throw InputError("usage: grainscale dem SCENARIO.yaml [--out DIR] [--threads N] [--resume]");
+  }
   for (int t : thread_list(a.threads, {})) omp_set_num_threads(t);
-  dem::DemRun run(a.positional[0], a.out);
+  dem::DemRun run(a.positional[0], a.out, a.resume);
   run.setup();
   run.run();
   run.output();
@@ -135,7 +141,15 @@ int run_bench(const Args& a) {
   sim->setup();
   std::cerr << "[bench] " << sim->particles().size() << " spheres; " << sim->time_step_report() << "\n";
   std::cerr << "[bench] settling to t = " << sc.end_time << " s ...\n";
-  while (sim->time() < sc.end_time) built.advance();
+  double next_report = 0;
+  while (sim->time() < sc.end_time) {
+    built.advance();
+    if (sim->time() >= next_report) {  // progress: settling a large bed takes a while
+      std::cerr << "[bench] t = " << sim->time() << " s, " << sim->particles().size() << " spheres, "
+                << sim->diagnostics().contacts << " contacts\n";
+      next_report += 0.05;
+    }
+  }
   std::printf("problem: %s, %zu spheres, dt = %.4g s, settled for %.3g s, %zu contacts, %zu wall contacts\n",
               sc.name.c_str(), sim->particles().size(), sim->dt(), sim->time(), sim->diagnostics().contacts,
               sim->diagnostics().wall_contacts);

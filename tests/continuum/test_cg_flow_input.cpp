@@ -1,0 +1,94 @@
+// The continuum model reads the coarse-graining stage's field file (docs/coarsegrain_layout.md)
+// directly as its flow: u, shear rate and surface from one frame, empty columns dropped.
+#include <hdf5.h>
+
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "continuum/gridded_flow.hpp"
+#include "dem/input_error.hpp"
+
+using namespace grainscale::continuum;
+using Catch::Matchers::Contains;
+using Catch::Matchers::WithinAbs;
+
+namespace {
+
+void dataset(hid_t loc, const char* name, const std::vector<hsize_t>& dims, const std::vector<double>& v) {
+  const hid_t space = H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr);
+  const hid_t set = H5Dcreate2(loc, name, H5T_IEEE_F64LE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  H5Dwrite(set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data());
+  H5Dclose(set);
+  H5Sclose(space);
+}
+
+void int_attribute(hid_t loc, const char* name, int v) {
+  const hid_t space = H5Screate(H5S_SCALAR);
+  const hid_t a = H5Acreate2(loc, name, H5T_STD_I32LE, space, H5P_DEFAULT, H5P_DEFAULT);
+  H5Awrite(a, H5T_NATIVE_INT, &v);
+  H5Aclose(a);
+  H5Sclose(space);
+}
+
+/// A cg field file on a 2-D grid of nx x nz cells over [0, 0.8] x [0, 0.2]: a shear layer
+/// u = g (z - h/2) with shear rate g below a flat surface h; the first column is empty (h NaN).
+std::string write_cg_file(double g, double h, int frames) {
+  const std::string path = (std::filesystem::temp_directory_path() / "grainscale_test_cg_fields.h5").string();
+  const int nx = 16, nz = 10;
+  const hid_t f = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  int_attribute(f, "cg_layout_version", 1);
+  const hid_t grid = H5Gcreate2(f, "grid", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  int_attribute(grid, "dimension", 2);
+  std::vector<double> x(nx), z(nz);
+  for (int j = 0; j < nx; ++j) x[j] = 0.8 * (j + 0.5) / nx;
+  for (int k = 0; k < nz; ++k) z[k] = 0.2 * (k + 0.5) / nz;
+  dataset(grid, "x", {static_cast<hsize_t>(nx)}, x);
+  dataset(grid, "z", {static_cast<hsize_t>(nz)}, z);
+  H5Gclose(grid);
+  const hid_t fr = H5Gcreate2(f, "frames", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  int_attribute(fr, "count", frames);
+  for (int n = 0; n < frames; ++n) {
+    char name[16];
+    std::snprintf(name, sizeof name, "%06d", n);
+    const hid_t one = H5Gcreate2(fr, name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    const hid_t mix = H5Gcreate2(one, "mixture", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    std::vector<double> vel(nz * nx * 3, 0.0), rate(nz * nx), surface(nx, h);
+    for (int k = 0; k < nz; ++k)
+      for (int j = 0; j < nx; ++j) {
+        const bool empty = j == 0 || z[k] > h;
+        vel[(k * nx + j) * 3] = empty ? nan : (n + 1) * g * (z[k] - h / 2);
+        rate[k * nx + j] = empty ? nan : (n + 1) * g;
+      }
+    surface[0] = nan;
+    dataset(mix, "velocity", {static_cast<hsize_t>(nz), 1, static_cast<hsize_t>(nx), 3}, vel);
+    dataset(one, "shear_rate", {static_cast<hsize_t>(nz), 1, static_cast<hsize_t>(nx)}, rate);
+    dataset(one, "surface_height", {1, static_cast<hsize_t>(nx)}, surface);
+    H5Gclose(mix);
+    H5Gclose(one);
+  }
+  H5Gclose(fr);
+  H5Fclose(f);
+  return path;
+}
+
+}  // namespace
+
+TEST_CASE("A coarse-grained field file is read as the flow: shear rate, surface, chosen frame", "[continuum][flow]") {
+  const double g = 0.3, h = 0.1;
+  const std::string path = write_cg_file(g, h, 2);
+  const GriddedFlow last = GriddedFlow::load(path, 0.8);  // default: the last frame (n = 1: rate 2 g)
+  const GriddedFlow first = GriddedFlow::load(path, 0.8, 0);
+  CHECK_THAT(first.shear_rate(0.4, 0.03, 0), WithinAbs(g, 1e-12));
+  CHECK_THAT(last.shear_rate(0.4, 0.03, 0), WithinAbs(2 * g, 1e-12));
+  CHECK_THAT(first.surface_height(0.4), WithinAbs(h, 1e-12));
+  CHECK_THAT(first.surface_height(0.01), WithinAbs(h, 1e-12));  // the empty first column was dropped
+  // The stream function vanishes on the floor and on the surface (G1).
+  CHECK_THAT(first.stream_function(0.4, 0.0, 0), WithinAbs(0, 1e-12));
+  CHECK_THAT(first.stream_function(0.4, h, 0), WithinAbs(0, 1e-9));
+  REQUIRE_THROWS_WITH(GriddedFlow::load(path, 0.8, 5), Contains("frames 0 to 1"));
+}
