@@ -1,6 +1,7 @@
 #include "dem/scenario.hpp"
 
 #include <array>
+#include <charconv>
 #include <cstdio>
 #include <limits>
 #include <sstream>
@@ -164,10 +165,11 @@ Scenario load_scenario(const std::string& file) {
 
 namespace {
 
+/// The shortest decimal that reads back as the same double (0.2, not 0.20000000000000001).
 std::string exact(double x) {
   char buf[32];
-  std::snprintf(buf, sizeof buf, "%.17g", x);
-  return buf;
+  const auto r = std::to_chars(buf, buf + sizeof buf, x);
+  return std::string(buf, r.ptr);
 }
 std::string exact(const Vec3& v) { return "[" + exact(v.x) + ", " + exact(v.y) + ", " + exact(v.z) + "]"; }
 std::string exact(const Quat& q) {

@@ -52,7 +52,7 @@ Scenario load_scenario(const std::string& file);
 /// Lines "key: value" that identify everything in a scenario that changes the dynamics: seed,
 /// materials and pairs (as loaded), contact and time-step settings, each wall (geometry, pose, its
 /// motion sampled at fixed times) and each batch. Not the end time, the settling threshold or the
-/// output settings, which a resumed run may change. Numbers are exact (17 significant digits); no
+/// output settings, which a resumed run may change. Numbers are exact (shortest round trip); no
 /// line depends on where the files are. `--resume` compares these with the checkpoint's.
 std::vector<std::string> scenario_fingerprint(const Scenario& s);
 

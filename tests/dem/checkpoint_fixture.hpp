@@ -74,12 +74,13 @@ output: {directory: out, snapshot_interval: 0.01)" +
          (extra_output.empty() ? "" : ", " + extra_output) + "}\n";
 }
 
-/// The scenario and its materials in `dir`; returns the scenario's path.
+/// The scenario (as `name`) and its materials in `dir`; returns the scenario's path.
 inline std::string write_checkpoint_scenario(const CheckpointTempDir& dir, double end_time,
-                                             const std::string& extra_output = "") {
+                                             const std::string& extra_output = "",
+                                             const std::string& name = "scenario.yaml") {
   std::ofstream(dir / "materials.yaml") << kCheckpointMaterials;
-  std::ofstream(dir / "scenario.yaml") << checkpoint_scenario(end_time, extra_output);
-  return dir / "scenario.yaml";
+  std::ofstream(dir / name) << checkpoint_scenario(end_time, extra_output);
+  return dir / name;
 }
 
 /// Every body's and sphere's state, bit for bit, in storage order (slot order for spheres).

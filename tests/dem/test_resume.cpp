@@ -1,0 +1,229 @@
+// `grainscale dem --resume` (dem/dem_run.hpp): a run stopped right after a checkpoint, as a kill
+// would stop it, and resumed ends with the same files, byte for byte, as a run never stopped; a
+// changed scenario is refused; a blow-up keeps the last good checkpoint; a failed write stops the run
+// with an error naming the path and leaves earlier output intact.
+#include <signal.h>
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include <catch2/catch.hpp>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "checkpoint_fixture.hpp"
+#include "dem/checkpoint.hpp"
+#include "dem/dem_run.hpp"
+#include "dem/input_error.hpp"
+#include "dem/snapshot.hpp"
+
+using namespace grainscale;
+using namespace grainscale::dem;
+using Catch::Matchers::Contains;
+namespace fs = std::filesystem;
+
+namespace {
+
+// 0.03 s: about 1200 steps, snapshots at 0, 0.01, 0.02 and the end; a checkpoint every 64 steps.
+constexpr double kEnd = 0.03;
+const std::string kOften = "checkpoint_interval: 1.0e-9";
+
+/// Thrown from the checkpoint hook: ends the run as abruptly as a kill (nothing after it runs).
+struct Killed {};
+
+void run_to_end(const std::string& scenario, const std::string& out, bool resume = false) {
+  DemRun r(scenario, out, resume);
+  r.setup();
+  r.run();
+  r.output();
+}
+
+/// Run until the `n`th checkpoint has been written, then stop dead.
+void run_until_checkpoint(const std::string& scenario, const std::string& out, int n) {
+  DemRun r(scenario, out);
+  int written = 0;
+  r.on_checkpoint([&](const std::string&) {
+    if (++written == n) throw Killed{};
+  });
+  r.setup();
+  CHECK_THROWS_AS(r.run(), Killed);
+}
+
+std::vector<std::string> snapshot_names(const std::string& out) {
+  std::vector<std::string> names;
+  for (const auto& e : fs::directory_iterator(fs::path(out) / "snapshots")) names.push_back(e.path().filename().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+/// Same snapshot files with the same bytes, and the same XDMF series.
+void require_same_output(const std::string& a, const std::string& b) {
+  const std::vector<std::string> names = snapshot_names(a);
+  REQUIRE(names.size() >= 3);
+  CHECK(snapshot_names(b) == names);
+  for (const std::string& n : names) {
+    INFO(n);
+    CHECK(testing::slurp_file(a + "/snapshots/" + n) == testing::slurp_file(b + "/snapshots/" + n));
+  }
+  CHECK(testing::slurp_file(a + "/snapshots.xmf") == testing::slurp_file(b + "/snapshots.xmf"));
+}
+
+}  // namespace
+
+TEST_CASE("A run stopped after a checkpoint and resumed ends byte-identical to one never stopped",
+          "[dem][checkpoint][resume]") {
+  const testing::CheckpointTempDir dir;
+  // The same scenario twice, checkpointing every 64 steps or (by default) every 10 minutes: the
+  // interval changes nothing but when checkpoints are written.
+  const std::string often = testing::write_checkpoint_scenario(dir, kEnd, kOften, "often.yaml");
+  const std::string scenario = testing::write_checkpoint_scenario(dir, kEnd);
+  run_to_end(scenario, dir / "whole");
+
+  // Stopped after the 7th checkpoint (step 448, t = 0.011 s): one snapshot after t = 0 is on disk.
+  run_until_checkpoint(often, dir / "stopped", 7);
+  const CheckpointInfo info = read_checkpoint_info(dir / "stopped/checkpoint.h5");
+  CHECK(info.step == 7 * 64);
+  CHECK_FALSE(info.complete);
+  CHECK(fs::exists(dir / "stopped/snapshots/snap_000001.h5"));
+  CHECK_FALSE(fs::exists(dir / "stopped/summary.yaml"));
+
+  // Forgetting --resume would overwrite the only way back: refused.
+  CHECK_THROWS_WITH(run_to_end(scenario, dir / "stopped"), Contains("unfinished run") && Contains("--resume"));
+
+  run_to_end(scenario, dir / "stopped", true);
+  require_same_output(dir / "whole", dir / "stopped");
+  const std::string log = testing::slurp_file(dir / "stopped/log.txt");
+  CHECK_THAT(log, Contains("resumed from") && Contains("step 448"));
+  CHECK(read_checkpoint_info(dir / "stopped/checkpoint.h5").complete);
+
+  // A finished run may be extended: raise the end time and resume; the same as running that far.
+  testing::write_checkpoint_scenario(dir, kEnd + 0.01);
+  run_to_end(scenario, dir / "stopped", true);
+  run_to_end(scenario, dir / "longer");
+  require_same_output(dir / "longer", dir / "stopped");
+}
+
+TEST_CASE("Resuming is refused without a checkpoint or with a scenario that changes the dynamics",
+          "[dem][checkpoint][resume]") {
+  const testing::CheckpointTempDir dir;
+  const std::string scenario = testing::write_checkpoint_scenario(dir, kEnd, kOften);
+  CHECK_THROWS_WITH(run_to_end(scenario, dir / "out", true),
+                    Contains("no checkpoint") && Contains(dir / "out/checkpoint.h5"));
+  run_until_checkpoint(scenario, dir / "out", 2);
+
+  // Another friction coefficient: the first differing fingerprint line is quoted, old and new.
+  std::string materials = testing::kCheckpointMaterials;
+  materials.replace(materials.find("friction: 0.5"), 13, "friction: 0.6");
+  std::ofstream(dir / "materials.yaml") << materials;
+  CHECK_THROWS_AS(run_to_end(scenario, dir / "out", true), InputError);
+  CHECK_THROWS_WITH(run_to_end(scenario, dir / "out", true),
+                    Contains("pairs.grain-grain") && Contains("mu 0.5,") && Contains("mu 0.6,"));
+  std::ofstream(dir / "materials.yaml") << testing::kCheckpointMaterials;
+
+  // Another wall motion.
+  std::string moved = testing::checkpoint_scenario(kEnd, kOften);
+  moved.replace(moved.find("period: 0.04"), 12, "period: 0.05");
+  std::ofstream(dir / "scenario.yaml") << moved;
+  CHECK_THROWS_WITH(run_to_end(scenario, dir / "out", true), Contains("walls[0].motion"));
+  // Output settings may change.
+  testing::write_checkpoint_scenario(dir, kEnd, "progress_interval: 3");
+  run_to_end(scenario, dir / "out", true);
+}
+
+TEST_CASE("A blow-up stops the run and keeps the last good checkpoint and the snapshots",
+          "[dem][checkpoint][resume]") {
+  const testing::CheckpointTempDir dir;
+  std::string text = testing::checkpoint_scenario(kEnd, kOften);
+  // An overlap limit of 20 % of the radius, which this bed first exceeds after some 300 steps (the
+  // default 30 % it never reaches): a "blow-up" after a few checkpoints.
+  text.replace(text.find("contact: {rolling: epsd}"), 24, "contact: {rolling: epsd, max_overlap: 0.2}");
+  std::ofstream(dir / "materials.yaml") << testing::kCheckpointMaterials;
+  std::ofstream(dir / "scenario.yaml") << text;
+
+  DemRun r(dir / "scenario.yaml", dir / "out");
+  std::string last_good;
+  r.on_checkpoint([&](const std::string& path) { last_good = testing::slurp_file(path); });
+  r.setup();
+  std::string message;
+  try {
+    r.run();
+  } catch (const BlowUp& e) {
+    message = e.what();
+  }
+  REQUIRE_FALSE(message.empty());
+  REQUIRE_FALSE(last_good.empty());  // checkpoints were written before it blew up
+  CHECK_THAT(message, Contains("overlap") && Contains("last good checkpoint") && Contains(dir / "out/checkpoint.h5"));
+  CHECK(testing::slurp_file(dir / "out/checkpoint.h5") == last_good);
+  CHECK_FALSE(fs::exists(dir / "out/checkpoint.h5.tmp"));
+  CHECK(read_checkpoint_info(dir / "out/checkpoint.h5").time < r.simulation().time());
+  CHECK(read_snapshot(dir / "out/snapshots/snap_000000.h5").time == 0);
+  CHECK_THAT(testing::slurp_file(dir / "out/log.txt"), Contains("blow-up"));
+}
+
+TEST_CASE("A failed write ends the run with an error naming the path; earlier output stays intact",
+          "[dem][checkpoint][resume]") {
+  const testing::CheckpointTempDir dir;
+  const std::string scenario = testing::write_checkpoint_scenario(dir, kEnd, kOften);
+  const std::string out = dir / "out";
+  testing::write_checkpoint_scenario(dir, kEnd, "", "plain.yaml");  // (no checkpoints to speak of)
+  std::string kept;  // the checkpoint as it was when writing stopped working
+
+  SECTION("a read-only output folder") {
+    // Root ignores permission bits; there the checkpoint's tmp name is blocked by a directory instead
+    // (the same failure for the writer: it cannot create its file).
+    const bool root = geteuid() == 0;
+    DemRun r(scenario, out);
+    int written = 0;
+    r.on_checkpoint([&](const std::string& path) {
+      if (++written != 3) return;
+      kept = testing::slurp_file(path);
+      if (root) {
+        fs::create_directory(path + ".tmp");
+      } else {
+        fs::permissions(out, fs::perms::owner_write | fs::perms::group_write | fs::perms::others_write,
+                        fs::perm_options::remove);
+        fs::permissions(out + "/snapshots", fs::perms::owner_write | fs::perms::group_write | fs::perms::others_write,
+                        fs::perm_options::remove);
+      }
+    });
+    r.setup();
+    CHECK_THROWS_WITH(r.run(), Contains(out + "/checkpoint.h5") && Contains("earlier output") && Contains("intact"));
+    if (root) fs::remove(out + "/checkpoint.h5.tmp");
+    CHECK(testing::slurp_file(out + "/checkpoint.h5") == kept);
+  }
+  SECTION("a full disk (a file-size limit that the next write exceeds)") {
+    // RLIMIT_FSIZE makes write() fail with EFBIG part-way through a file, as ENOSPC would; SIGXFSZ
+    // must be ignored or it would kill the test.
+    struct rlimit saved {};
+    REQUIRE(getrlimit(RLIMIT_FSIZE, &saved) == 0);
+    const auto old_handler = signal(SIGXFSZ, SIG_IGN);
+    DemRun r(scenario, out);
+    int written = 0;
+    r.on_checkpoint([&](const std::string& path) {
+      if (++written != 3) return;
+      kept = testing::slurp_file(path);
+      struct rlimit small = saved;
+      small.rlim_cur = 4096;  // below any checkpoint or snapshot
+      REQUIRE(setrlimit(RLIMIT_FSIZE, &small) == 0);
+    });
+    r.setup();
+    std::string message;
+    try {
+      r.run();
+    } catch (const std::runtime_error& e) {
+      message = e.what();
+    }
+    REQUIRE(setrlimit(RLIMIT_FSIZE, &saved) == 0);
+    signal(SIGXFSZ, old_handler);
+    CHECK_THAT(message, Contains(out + "/checkpoint.h5") && Contains("File too large") && Contains("intact"));
+    CHECK(testing::slurp_file(out + "/checkpoint.h5") == kept);
+    for (const auto& e : fs::recursive_directory_iterator(out)) CHECK(e.path().extension() != ".tmp");
+    // Not stranded: the run resumes from the kept checkpoint once there is room again.
+    run_to_end(dir / "plain.yaml", out, true);
+    CHECK(read_checkpoint_info(out + "/checkpoint.h5").complete);
+  }
+  REQUIRE_FALSE(kept.empty());
+  for (const auto& e : fs::recursive_directory_iterator(out)) CHECK(e.path().extension() != ".tmp");
+  CHECK(read_snapshot(out + "/snapshots/snap_000000.h5").time == 0);
+}
