@@ -16,6 +16,7 @@
 #include "dem/input_error.hpp"
 #include "dem/scenario.hpp"
 #include "dem/shape.hpp"
+#include "studies/calibrate_command.hpp"
 #include "studies/cg_plots.hpp"
 #include "studies/shape_picture.hpp"
 #include "grainscale_version.hpp"
@@ -46,6 +47,10 @@ commands:
         run the continuum advection-diffusion-segregation model (SUNDIALS CVODE or
         SSP-RK3) and write c(x, z, t), chaff per slice and surface coverage
         (settings: docs/continuum.md)
+  calibrate STUDY.yaml [--out DIR] [--threads N]
+        calibrate sliding and/or rolling friction against measured angles of
+        repose with the report's rig (pipe lifted off a tray); writes runs.csv,
+        calibrated materials, sensitivity PNGs and report.md (docs/aor_calibration.md)
   shape SHAPE.yaml [--png FILE.png] [--density KG_M3 | --mass KG]
         check a particle shape: size against the measured size, volume, centroid,
         principal moments; with --mass, the density that gives that particle mass
@@ -255,6 +260,7 @@ int main(int argc, char** argv) {
     if (cmd == "bench") return run_bench(a);
     if (cmd == "cg") return run_cg(a);
     if (cmd == "predict") return run_predict(a);
+    if (cmd == "calibrate") return studies::calibrate_main(a.positional, a.out, a.threads);
     if (cmd == "shape") return run_shape(a);
     if (cmd == "version") {
       std::cout << "grainscale " << version << " (" << git_revision << ")\n";
