@@ -18,6 +18,7 @@
 #include "dem/shape.hpp"
 #include "studies/calibrate_command.hpp"
 #include "studies/cg_plots.hpp"
+#include "studies/fit_command.hpp"
 #include "studies/shape_picture.hpp"
 #include "grainscale_version.hpp"
 
@@ -47,6 +48,12 @@ commands:
         run the continuum advection-diffusion-segregation model (SUNDIALS CVODE or
         SSP-RK3) and write c(x, z, t), chaff per slice and surface coverage
         (settings: docs/continuum.md)
+  fit SETTINGS.yaml [--out DIR]
+        fit continuum coefficients (S, C, D0, kappa, ...) to concentration fields
+        and/or coverage profiles (CSV); writes fit.yaml (values, standard errors,
+        correlations, chi2/dof), report.md and PNGs of data, model and residual;
+        exit status 4 if it did not converge or left a parameter unconstrained
+        (settings: docs/plots.md)
   calibrate STUDY.yaml [--out DIR] [--threads N]
         calibrate sliding and/or rolling friction against measured angles of
         repose with the report's rig (pipe lifted off a tray); writes runs.csv,
@@ -260,6 +267,7 @@ int main(int argc, char** argv) {
     if (cmd == "bench") return run_bench(a);
     if (cmd == "cg") return run_cg(a);
     if (cmd == "predict") return run_predict(a);
+    if (cmd == "fit") return studies::fit_command(a.positional, a.out);
     if (cmd == "calibrate") return studies::calibrate_main(a.positional, a.out, a.threads);
     if (cmd == "shape") return run_shape(a);
     if (cmd == "version") {

@@ -81,6 +81,7 @@ NumericCsv NumericCsv::parse(const std::string& text, const std::string& name) {
       }
       t.data_[k].push_back(v);
     }
+    t.lines_.push_back(number);
     ++t.rows_;
   }
   if (!header) throw InputError(name + ": no header line (expected column names, e.g. t_s,x_m,...)");

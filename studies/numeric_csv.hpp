@@ -19,12 +19,15 @@ class NumericCsv {
   /// A column's values, one per row; InputError naming the file and the columns it has if absent.
   std::vector<double> column(const std::string& name) const;
   std::size_t rows() const { return rows_; }
+  /// Line number of data row `row` in the file (for messages).
+  int line(std::size_t row) const { return lines_[row]; }
   const std::string& name() const { return name_; }
 
  private:
   std::string name_;
   std::vector<std::string> columns_;
   std::vector<std::vector<double>> data_;  // per column
+  std::vector<int> lines_;                 // per row
   std::size_t rows_ = 0;
 };
 

@@ -103,9 +103,9 @@ void draw_grid(Image& img, const Frame& f) {
   for (double v : f.yt.values) fill_rect(img, a.left, f.g.row(v), a.right, f.g.row(v), kGridColour, a);
 }
 
-void draw_bold(Image& img, int x, int y, const std::string& s) {
-  draw_text(img, x, y, s, kInk, kText);
-  draw_text(img, x + 1, y, s, kInk, kText);
+void draw_bold(Image& img, int x, int y, const std::string& s, int scale) {
+  draw_text(img, x, y, s, kInk, scale);
+  draw_text(img, x + 1, y, s, kInk, scale);
 }
 
 /// Frame, ticks, tick labels, axis labels and title (after the data, so they stay on top).
@@ -134,8 +134,11 @@ void draw_axes(Image& img, const Axes& ax, const Frame& f) {
     draw_text(img, kPad, (a.top + a.bottom) / 2 - h / 2, ax.y_label, kInk, kText, TextDirection::up);
   }
   if (!ax.title.empty()) {
-    const int w = text_size(ax.title, kText).width + 1;
-    draw_bold(img, std::max(0, (a.left + a.right) / 2 - w / 2), kPad, ax.title);
+    // A title too long for the figure drops to the small font rather than being cut off.
+    const int scale = text_size(ax.title, kText).width + 1 + 2 * kPad <= img.width() ? kText : 1;
+    const int w = text_size(ax.title, scale).width + 1;
+    const int x = std::clamp((a.left + a.right) / 2 - w / 2, 0, std::max(0, img.width() - w));
+    draw_bold(img, x, kPad + (kTextHeight - kGlyphHeight * scale) / 2, ax.title, scale);
   }
 }
 
