@@ -242,6 +242,18 @@ void DemRun::run() {
 }
 
 void DemRun::output() {
+  try {
+    write_final_output();
+  } catch (const std::runtime_error& e) {
+    if (dynamic_cast<const InputError*>(&e) != nullptr) throw;
+    const std::string note = std::string(e.what()) + ". The run itself is complete and its checkpoint " +
+                             checkpoint_path() + " saved: fix the cause and rerun with --resume to write the final output";
+    log("error: " + note);
+    throw std::runtime_error(note);
+  }
+}
+
+void DemRun::write_final_output() {
   write_snapshot_now();
   const Simulation& sim = *run_.sim;
   const Energy e = sim.energy();

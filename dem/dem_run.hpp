@@ -44,6 +44,7 @@ class DemRun {
   void log(const std::string& line);
   void write_snapshot_now();
   void write_checkpoint_now();
+  void write_final_output();
   void resume_from(Checkpoint&& c);
   double wall_seconds() const;
 

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "dem/wall_clearance.hpp"
+
 namespace grainscale::dem {
 
 Pour::Pour(ParticleBatch batch, double rate, double start, double interval)
@@ -26,7 +28,9 @@ void Pour::update(Simulation& sim, Random& rng) {
   if (n == 0) return;
   ParticleBatch now = batch_;
   now.count = n;
+  const std::size_t first = sim.particles().size();
   const InsertionReport r = insert_particles(sim, now, rng);
+  require_clear_of_walls(sim, first, batch_.label + ".region");
   mass_ += r.mass;
   count_ += r.placed;
   if (r.full) ++waits_;

@@ -14,6 +14,7 @@
 #include "dem/walls/mesh.hpp"
 #include "dem/walls/cylinder.hpp"
 #include "dem/walls/plane.hpp"
+#include "dem/wall_clearance.hpp"
 #include "dem/yaml_map.hpp"
 
 namespace grainscale::dem {
@@ -323,7 +324,9 @@ BuiltScenario build(const Scenario& s, bool place_particles) {
       continue;
     }
     if (!place_particles) continue;
+    const std::size_t first = out.sim->particles().size();
     const InsertionReport r = insert_particles(*out.sim, batch, out.rng);
+    require_clear_of_walls(*out.sim, first, b.batch.label + ".region");
     std::ostringstream line;
     line << b.batch.label << ": placed " << r.placed << (batch.shape ? " " + batch.shape->name + " clumps" : " spheres")
          << ", " << r.mass << " kg, density " << (batch.density > 0 ? batch.density : materials[batch.material].density)
