@@ -1,6 +1,8 @@
 // Figures of a cg output folder: they show the right snapshots (the first with chaff, the last),
 // the report's measured coverage, and c(x, z) of the last frame; missing or empty files are
 // skipped with a reason, never thrown; redrawing gives the same bytes.
+#include <unistd.h>
+
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -118,7 +120,7 @@ TEST_CASE("Concentration map shows the last frame, averaged over y", "[studies][
 }
 
 TEST_CASE("write_cg_plots writes four PNGs, the same bytes twice, and skips what is missing", "[studies][cg_plots]") {
-  const fs::path dir = fs::temp_directory_path() / "grainscale_test_cg_plots";
+  const fs::path dir = fs::temp_directory_path() / ("grainscale_test_cg_plots_" + std::to_string(getpid()));
   fs::remove_all(dir);
   fs::create_directories(dir);
   write(dir / "slices.csv", kSlices);

@@ -6,6 +6,8 @@
 #include <gsl/gsl_rng.h>
 #include <yaml-cpp/yaml.h>
 
+#include <unistd.h>
+
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <filesystem>
@@ -61,7 +63,7 @@ std::string read(const fs::path& p) {
 
 /// A fresh folder with model.yaml (an nx x nz grid) in it.
 fs::path scratch(const std::string& name, int nx = 16, int nz = 8) {
-  const fs::path dir = fs::temp_directory_path() / ("grainscale_test_fit_" + name);
+  const fs::path dir = fs::temp_directory_path() / ("grainscale_test_fit_" + name + "_" + std::to_string(getpid()));
   fs::remove_all(dir);
   fs::create_directories(dir);
   write(dir / "model.yaml", model_yaml(nx, nz));
@@ -90,7 +92,7 @@ Truth simulate_truth(const fs::path& dir, std::vector<double> times) {
 
 TEST_CASE("Fit data go to their nearest cell and combine by inverse variance", "[studies][fit]") {
   const continuum::Grid g(0.4, 4, 2, {0.1, 0.1, 0.1, 0.2, 0.2});  // column 2 is 0.15 deep, column 3 0.2
-  const fs::path dir = fs::temp_directory_path() / "grainscale_test_fit_map";
+  const fs::path dir = fs::temp_directory_path() / ("grainscale_test_fit_map_" + std::to_string(getpid()));
   fs::create_directories(dir);
   write(dir / "f.csv",
         "t_s,x_m,z_m,c,sigma,extra\n"

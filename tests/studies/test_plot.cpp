@@ -1,5 +1,7 @@
 // Plots: data land on the pixels the geometry says, figures are byte-identical when redrawn, and
 // bad data (NaN, nothing finite, mismatched lengths) is skipped or refused with a clear message.
+#include <unistd.h>
+
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -154,7 +156,7 @@ TEST_CASE("Figures redraw byte for byte", "[studies][plot]") {
   h.map = ColourMap::diverging;
   CHECK(draw(h).encode_png() == draw(h).encode_png());
 
-  const std::string path = (std::filesystem::temp_directory_path() / "grainscale_test_plot.png").string();
+  const std::string path = (std::filesystem::temp_directory_path() / ("grainscale_test_plot_" + std::to_string(getpid()) + ".png")).string();
   draw(p).write_png(path);
   CHECK(std::filesystem::file_size(path) == draw(p).encode_png().size());
   std::filesystem::remove(path);
