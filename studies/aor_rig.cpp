@@ -1,6 +1,7 @@
 #include "studies/aor_rig.hpp"
 
 #include <cmath>
+#include <filesystem>
 #include <numbers>
 #include <sstream>
 
@@ -68,7 +69,7 @@ std::string aor_scenario_yaml(const AorCase& c, const std::string& output_direct
     << num(sch.lift_start) << " s.\n"
     << "name: " << c.name << "\n"
     << "seed: " << c.seed << "\n"
-    << "materials: \"" << c.materials_file << "\"\n"
+    << "materials: \"" << std::filesystem::absolute(c.materials_file).string() << "\"\n"
     << "scale_factor: " << num(c.scale_factor) << "\n"
     << "contact: {rolling: " << c.rolling_model << ", max_overlap: " << num(c.max_overlap) << "}\n"
     << "time: {end: " << num(sch.end_time) << ", step_fraction: " << num(c.timing.step_fraction)
@@ -85,7 +86,7 @@ std::string aor_scenario_yaml(const AorCase& c, const std::string& output_direct
     << "particles:\n"
     << "  - material: " << c.grain.material << "\n";
   if (!c.grain.shape.empty()) {
-    y << "    shape: \"" << c.grain.shape << "\"\n";
+    y << "    shape: \"" << std::filesystem::absolute(c.grain.shape).string() << "\"\n";
     if (c.grain.particle_mass > 0) y << "    particle_mass: " << num(c.grain.particle_mass) << "\n";
   } else {
     y << "    diameter: " << num(c.grain.diameter) << "\n"

@@ -32,7 +32,7 @@ struct AorRig {
 /// The grain: clumps of a shape file (scaled by the scenario's scale factor) or spheres.
 struct AorGrain {
   std::string material = "barley";  // name in the materials file
-  std::string shape;                // shape file (absolute path); empty: spheres of `diameter`
+  std::string shape;                // shape file (made absolute in the scenario); empty: spheres
   double diameter = 0;              // m at run size (spheres only)
   double diameter_spread = 0;       // spheres only
   double particle_mass = 0;         // kg per clump at run size; 0: the material's density
@@ -52,7 +52,7 @@ struct AorTiming {
 struct AorCase {
   std::string name = "aor";
   std::uint64_t seed = 1;
-  std::string materials_file;  // absolute path
+  std::string materials_file;  // made absolute in the scenario
   double scale_factor = 1;
   std::string rolling_model = "constant_torque";
   double max_overlap = 0.3;
