@@ -161,6 +161,9 @@ AngleMeasurement measure_angle(const std::vector<dem::Vec3>& centres, const std:
       sector[s].r.push_back(rho), sector[s].h.push_back(h);
     }
   const Rings rings = ring_medians(all, ring, R);
+  for (std::size_t k = 0; k < rings.median.size(); ++k) {
+    if (!std::isnan(rings.median[k])) out.profile_r.push_back((k + 0.5) * ring), out.profile_h.push_back(rings.median[k]);
+  }
   std::tie(out.top_height, out.base_height) = top_and_base(rings);
   const double H = out.top_height - out.base_height;
   if (!(H > r_med)) {

@@ -42,6 +42,7 @@ struct AngleMeasurement {
   std::vector<double> side_deg;         // per view: left flank, right flank
   double top_height = 0, base_height = 0;  // m, of the averaged profile
   double fit_r_inner = 0, fit_r_outer = 0;  // m, the fitted band
+  std::vector<double> profile_r, profile_h;  // m: the azimuthally averaged surface (ring centres, medians)
   int spheres = 0;                      // spheres counted (within the outer radius)
 };
 

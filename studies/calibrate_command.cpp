@@ -19,6 +19,7 @@
 #include "dem/simulation.hpp"
 #include "grainscale_version.hpp"
 #include "studies/aor_materials_file.hpp"
+#include "studies/aor_profile_plot.hpp"
 #include "studies/aor_run.hpp"
 #include "studies/aor_search.hpp"
 #include "studies/aor_sensitivity_plot.hpp"
@@ -268,6 +269,8 @@ int run_calibrate(const CalibrateOptions& opt) {
         try {
           row.r = run_aor(scenario, a, (dir / "final.h5").string(), log);
           row.ok = true;
+          draw_pile_profile(row.r.angle, c.name + ", point " + std::to_string(point) + ", seed " + std::to_string(seed))
+              .write_png((dir / "profile.png").string());
           angles.push_back(row.r.angle.mean_deg);
           sides.push_back(row.r.angle.side_mean_deg);
           spreads.push_back(row.r.angle.spread_deg);

@@ -90,6 +90,9 @@ TEST_CASE("The AOR measurement recovers the angle of a synthetic cone within 0.5
   CHECK_THAT(m.fit_r_inner, WithinAbs(0.2 * R, 2 * a));
   CHECK_THAT(m.fit_r_outer, WithinAbs(0.8 * R, 2 * a));
   CHECK(m.spheres == static_cast<int>(2 * static_cast<int>(4 * R * R / (a * a))));
+  // The averaged profile falls from the top to the base through the band.
+  REQUIRE(m.profile_r.size() >= 10);
+  CHECK(m.profile_h.front() > m.profile_h.back() + 0.5 * H);
 }
 
 TEST_CASE("A lopsided pile shows in the sector angles and their spread", "[studies][aor]") {

@@ -12,6 +12,7 @@
 #include "dem/material.hpp"
 #include "dem/scenario.hpp"
 #include "studies/aor_materials_file.hpp"
+#include "studies/aor_profile_plot.hpp"
 #include "studies/aor_rig.hpp"
 #include "studies/aor_run.hpp"
 #include "studies/aor_search.hpp"
@@ -205,6 +206,12 @@ TEST_CASE("The sensitivity figure draws one panel per parameter", "[studies][aor
   CHECK(draw_sensitivity(f).width() == 2 * one.width());
   f.parameters.clear();
   CHECK_THROWS_AS(draw_sensitivity(f), std::invalid_argument);
+
+  // The pile's profile figure.
+  AngleMeasurement m;
+  for (int k = 0; k < 20; ++k) m.profile_r.push_back(0.0025 + 0.005 * k), m.profile_h.push_back(0.07 - 0.5 * 0.005 * k);
+  m.mean_deg = 26.57, m.fit_r_inner = 0.02, m.fit_r_outer = 0.08, m.top_height = 0.07, m.base_height = 0.0225;
+  CHECK(draw_pile_profile(m, "test").width() == 900);
 }
 
 TEST_CASE("A quick 2x AOR run of barley gives an angle near its calibrated value", "[studies][aor][.validate]") {
