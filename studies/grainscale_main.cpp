@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <iostream>
 #include <sstream>
 #include <string>
@@ -12,6 +13,7 @@
 
 #include "coarsegrain/cg_run.hpp"
 #include "continuum/run_continuum.hpp"
+#include "dem/checkpoint.hpp"
 #include "dem/dem_run.hpp"
 #include "dem/input_error.hpp"
 #include "dem/scenario.hpp"
@@ -36,14 +38,15 @@ commands:
         snapshots (+ XDMF for ParaView), summary.yaml and log.txt in the output folder;
         checkpoint.h5 there is updated every output.checkpoint_interval s of wall clock
         and at the end, and --resume continues a stopped run from it, bit for bit
-  bench SCENARIO.yaml [--steps N] [--threads LIST]
+  bench SCENARIO.yaml [--steps N] [--threads LIST] [--settled CHECKPOINT.h5]
         settle the scenario to its end time, then time N further steps (default
         20000) from the same settled state on each thread count in LIST (default
-        1,2); prints sphere-steps per second and the speed-up
+        1,2); prints sphere-steps per second and the speed-up. --settled FILE keeps
+        the settled state as a checkpoint: read if it exists, written otherwise
   cg SETTINGS.yaml [--out DIR] [--threads N]
         coarse-grain DEM snapshots into fields in the container frame (HDF5 + XDMF,
         CSV) and the report's measures: chaff per 50 mm slice, top-view coverage,
-        congregation index (settings: docs/coarsegrain_layout.md)
+        congregation index, with PNG figures of each (settings: docs/coarsegrain_layout.md)
   predict SETTINGS.yaml [--out DIR]
         run the continuum advection-diffusion-segregation model (SUNDIALS CVODE or
         SSP-RK3) and write c(x, z, t), chaff per slice and surface coverage
@@ -76,6 +79,7 @@ struct Args {
   double density = 0, mass = 0;
   long steps = 20000;
   bool resume = false;
+  std::string settled;  // bench: checkpoint of the settled state (read if present, else written)
 };
 
 Args parse(int argc, char** argv, int first) {
@@ -103,6 +107,7 @@ Args parse(int argc, char** argv, int first) {
     else if (s == "--mass") a.mass = positive("--mass");
     else if (s == "--threads") a.threads = value("--threads");
     else if (s == "--resume") a.resume = true;
+    else if (s == "--settled") a.settled = value("--settled");
     else if (s == "--steps") {
       const std::string v = value("--steps");
       try {
@@ -146,21 +151,32 @@ int run_dem(const Args& a) {
 }
 
 int run_bench(const Args& a) {
-  if (a.positional.size() != 1) throw InputError("usage: grainscale bench SCENARIO.yaml [--steps N] [--threads LIST]");
+  if (a.positional.size() != 1) throw InputError("usage: grainscale bench SCENARIO.yaml [--steps N] [--threads LIST] [--settled CHECKPOINT.h5]");
   const dem::Scenario sc = dem::load_scenario(a.positional[0]);
   dem::BuiltScenario built = dem::build(sc);
   dem::Simulation* sim = built.sim.get();
   sim->setup();
   std::cerr << "[bench] " << sim->particles().size() << " spheres; " << sim->time_step_report() << "\n";
-  std::cerr << "[bench] settling to t = " << sc.end_time << " s ...\n";
+  // A large bed takes long to settle: keep the settled state as a checkpoint and start from it next time.
+  const bool from_checkpoint = !a.settled.empty() && std::filesystem::exists(a.settled);
+  if (from_checkpoint) {
+    dem::restore_checkpoint(dem::read_checkpoint(a.settled), built);
+    std::cerr << "[bench] settled state from " << a.settled << " (t = " << sim->time() << " s)\n";
+  } else {
+    std::cerr << "[bench] settling to t = " << sc.end_time << " s ...\n";
+  }
   double next_report = 0;
-  while (sim->time() < sc.end_time) {
+  while (!from_checkpoint && sim->time() < sc.end_time) {
     built.advance();
     if (sim->time() >= next_report) {  // progress: settling a large bed takes a while
       std::cerr << "[bench] t = " << sim->time() << " s, " << sim->particles().size() << " spheres, "
                 << sim->diagnostics().contacts << " contacts\n";
       next_report += 0.05;
     }
+  }
+  if (!from_checkpoint && !a.settled.empty()) {
+    dem::write_checkpoint(a.settled, built);
+    std::cerr << "[bench] settled state written to " << a.settled << "\n";
   }
   std::printf("problem: %s, %zu spheres, dt = %.4g s, settled for %.3g s, %zu contacts, %zu wall contacts\n",
               sc.name.c_str(), sim->particles().size(), sim->dt(), sim->time(), sim->diagnostics().contacts,
