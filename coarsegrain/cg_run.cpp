@@ -98,6 +98,16 @@ std::pair<double, double> mean_std(const std::vector<double>& v) {
 
 }  // namespace
 
+/// Motion phase the DEM recorded for the container wall (docs/snapshot_layout.md, `motion_phase`).
+static double recorded_phase(const dem::Snapshot& snap, const std::string& wall, const std::string& path) {
+  for (const dem::WallPoseRecord& w : snap.walls) {
+    if (w.name == wall && w.moving) return w.motion_phase;
+  }
+  throw InputError(path + ": phase averaging needs a 'phase' per snapshot, 'averaging.period', or a container wall "
+                   "with a prescribed motion; wall '" + wall + "' " +
+                   (wall.empty() ? std::string("is not set") : "does not move in this snapshot"));
+}
+
 CgSummary run_coarse_graining(const CgSettings& s) {
   if (s.snapshots.empty()) throw InputError(s.source + ": no snapshots to coarse-grain");
   std::error_code ec;
@@ -134,7 +144,11 @@ CgSummary run_coarse_graining(const CgSettings& s) {
       case Averaging::snapshot: frames.push_back({derive_fields(m, grid, species, options), "snapshot", 0, 0}); break;
       case Averaging::window: window.add(m); break;
       case Averaging::phase: {
-        const double phase = std::isnan(s.snapshots[n].phase) ? (snap.time - s.t0) / s.period : s.snapshots[n].phase;
+        // The snapshot's own phase (settings), else from the time and period, else the phase the
+        // DEM recorded for the container wall's motion.
+        double phase = s.snapshots[n].phase;
+        if (std::isnan(phase) && s.period > 0) phase = (snap.time - s.t0) / s.period;
+        if (std::isnan(phase)) phase = recorded_phase(snap, s.container_wall, s.snapshots[n].path);
         phases.add(phase, m);
         break;
       }

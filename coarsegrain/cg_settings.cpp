@@ -103,10 +103,10 @@ CgSettings load_cg_settings(const std::string& file) {
     s.phase_bins = static_cast<int>(a->integer_or("phase_bins", 8, 1, 1000));
     s.period = a->number_or("period", 0, Range::non_negative());
     s.t0 = a->number_or("t0", 0);
-    if (s.averaging == Averaging::phase && !(s.period > 0)) {
+    if (s.averaging == Averaging::phase && !(s.period > 0) && s.container_wall.empty()) {
       for (const auto& e : s.snapshots) {
         if (std::isnan(e.phase)) {
-          throw InputError(a->where("period") + ": phase averaging needs 'period' (s) unless every snapshot has a 'phase'");
+          throw InputError(a->where("period") + ": phase averaging needs 'period' (s), a 'phase' per snapshot, or a moving container wall (its recorded phase)");
         }
       }
     }
