@@ -44,9 +44,9 @@ struct AorTiming {
   double step_fraction = 0.2;  // of the Rayleigh time
   double pour_interval = 0.005;  // s between pour insertions
   double settle_fill = 0.4;    // s between the planned end of the pour and the earliest lift
-  double fill_rest_speed = 0.02;  // m/s: the lift waits until the fill's rms speed is below this
+  double fill_rest_speed = 0.02;  // m/s: the lift waits until 95 % of the fill is slower than this
   double max_settle = 3.0;     // s the pile may take to come to rest after the pipe has cleared it
-  double rest_speed = 0.005;   // m/s: the pile is at rest when its grains' rms speed is below this
+  double rest_speed = 0.005;   // m/s: the pile is at rest when 95 % of its grains are slower than this
 };
 
 struct AorCase {

@@ -19,9 +19,9 @@ struct AorRunResult {
   double lift_start = 0;         // s simulated
   double clear_time = 0;         // s: the pipe's bottom is above the fill's top
   double end_time = 0;           // s: when the loop stopped
-  double rms_speed = 0;          // m/s of the grain on the tray at the end
+  double speed_p95 = 0;          // m/s: 95th-percentile speed of the grain on the tray at the end
   double fill_top = 0;           // m: top of the highest grain in the pipe at the lift
-  double fill_rms_speed = 0;     // m/s of the fill at the lift (settled: well below 0.01)
+  double fill_speed_p95 = 0;     // m/s: 95th-percentile speed of the fill at the lift
   bool pour_done = false;        // the pour had finished when the lift began
   std::size_t spheres = 0, bodies = 0;
   std::size_t bodies_on_tray = 0;  // centre within the tray's radius and above the floor
