@@ -358,13 +358,23 @@ class Reader {
 
 /// Refuse to save a state that has blown up: it would replace the last good checkpoint.
 void check_finite(const Simulation& sim, const std::string& path) {
+  // Bodies (what is integrated) and spheres (a step stopped by the blow-up check leaves its
+  // non-finite forces there, the bodies' own still being those of the step before).
+  auto refuse = [&](const std::string& what) {
+    throw std::runtime_error("not writing checkpoint " + path + ": " + what + " at t = " + std::to_string(sim.time()) +
+                             " s (the run has blown up); the previous checkpoint is kept");
+  };
   const Bodies& b = sim.bodies();
   for (std::size_t k = 0; k < b.size(); ++k) {
     if (!is_finite(b.x[k]) || !is_finite(b.v[k]) || !is_finite(b.L[k]) || !is_finite(b.force[k]) ||
         !is_finite(b.torque[k])) {
-      throw std::runtime_error("not writing checkpoint " + path + ": body " + std::to_string(b.id[k]) +
-                               " has a non-finite position, velocity or force at t = " + std::to_string(sim.time()) +
-                               " s (the run has blown up); the previous checkpoint is kept");
+      refuse("body " + std::to_string(b.id[k]) + " has a non-finite position, velocity or force");
+    }
+  }
+  const Particles& p = sim.particles();
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (!is_finite(p.x[i]) || !is_finite(p.v[i]) || !is_finite(p.force[i]) || !is_finite(p.torque[i])) {
+      refuse("sphere " + std::to_string(p.id[i]) + " has a non-finite position, velocity or force");
     }
   }
 }

@@ -20,23 +20,33 @@ const std::vector<std::uint32_t>& NeighborList::sort_by_cell(const Particles& p,
   const std::size_t n = p.size();
   double lo_x = std::numeric_limits<double>::infinity(), lo_y = lo_x, lo_z = lo_x;
   double hi_x = -lo_x, hi_y = -lo_x, hi_z = -lo_x, r_max = 0;
-#pragma omp parallel for if(n >= parallel_min_items()) reduction(min : lo_x, lo_y, lo_z) reduction(max : hi_x, hi_y, hi_z, r_max)
+  int nonfinite = 0;  // (min and max pass NaN over, so it is counted apart)
+#pragma omp parallel for if(n >= parallel_min_items()) reduction(min : lo_x, lo_y, lo_z) reduction(max : hi_x, hi_y, hi_z, r_max) reduction(+ : nonfinite)
   for (std::size_t i = 0; i < n; ++i) {
     lo_x = std::min(lo_x, p.x[i].x), lo_y = std::min(lo_y, p.x[i].y), lo_z = std::min(lo_z, p.x[i].z);
     hi_x = std::max(hi_x, p.x[i].x), hi_y = std::max(hi_y, p.x[i].y), hi_z = std::max(hi_z, p.x[i].z);
     r_max = std::max(r_max, p.radius[i]);
+    nonfinite += !is_finite(p.x[i]);
   }
   if (n == 0) lo_x = lo_y = lo_z = hi_x = hi_y = hi_z = 0;
+  // Only a blown-up state has positions that are not finite or spread over more than the largest
+  // double; cell indices cannot be computed for it (the caller reports the blow-up).
+  if (nonfinite > 0 || !std::isfinite(hi_x - lo_x) || !std::isfinite(hi_y - lo_y) || !std::isfinite(hi_z - lo_z)) {
+    throw std::overflow_error("particle positions are not finite or spread over more than 1e308 m");
+  }
 
   // Cells at least one interaction range wide; if a stray particle stretches the box, widen the cells
   // rather than allocate a huge grid (the particle count bounds the grid size).
   cell_ = std::max(2.0 * r_max + skin, 1e-12);
   const double max_cells = std::max<double>(64.0, 8.0 * static_cast<double>(n));
+  // (Counted in double first: a particle flung far away would overflow an int.)
   for (;;) {
-    nx_ = static_cast<int>((hi_x - lo_x) / cell_) + 1;
-    ny_ = static_cast<int>((hi_y - lo_y) / cell_) + 1;
-    nz_ = static_cast<int>((hi_z - lo_z) / cell_) + 1;
-    if (static_cast<double>(nx_) * ny_ * nz_ <= max_cells) break;
+    const double fx = std::floor((hi_x - lo_x) / cell_) + 1, fy = std::floor((hi_y - lo_y) / cell_) + 1,
+                 fz = std::floor((hi_z - lo_z) / cell_) + 1;
+    if (fx * fy * fz <= max_cells) {
+      nx_ = static_cast<int>(fx), ny_ = static_cast<int>(fy), nz_ = static_cast<int>(fz);
+      break;
+    }
     cell_ *= 1.5;
   }
   origin_ = {lo_x, lo_y, lo_z};
@@ -147,8 +157,11 @@ void NeighborList::restore(const Particles& p, double skin, std::vector<std::uin
   const std::size_t n = start.size() - 1;
   if (start[0] != 0 || start[n] != partner.size()) bad("row starts do not span the " + std::to_string(partner.size()) + " entries");
   if (history.size() != partner.size()) bad("contact histories and entries differ in number");
+  // Rows first (non-decreasing, so with the ends checked every row lies inside `partner`), then entries.
   for (std::size_t i = 0; i < n; ++i) {
     if (start[i + 1] < start[i]) bad("row starts decrease at slot " + std::to_string(i));
+  }
+  for (std::size_t i = 0; i < n; ++i) {
     for (std::uint32_t k = start[i]; k < start[i + 1]; ++k) {
       const std::uint32_t j = partner[k];
       // Half list keyed on id; no pairs inside a body.

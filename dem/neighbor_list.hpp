@@ -21,6 +21,7 @@ namespace grainscale::dem {
 class NeighborList {
  public:
   /// New slot order (new_to_old) sorting particles by cell. Also prepares the cell grid for build().
+  /// Throws std::overflow_error if a position or the particles' extent is not finite (a blown-up state).
   const std::vector<std::uint32_t>& sort_by_cell(const Particles& p, double skin);
 
   /// Build the list for particles already renumbered by sort_by_cell()'s order; `new_to_old` maps the

@@ -237,6 +237,32 @@ void Simulation::restore(SimulationState&& s) {
           std::to_string(s.shape_names.size()) + ")");
     }
   }
+  // Finite numbers only: a checkpoint is never written from a non-finite state, and positions feed
+  // integer cell indices (a NaN there is undefined behaviour, not just a wrong answer).
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!is_finite(p.x[i]) || !is_finite(p.x_at_build[i]) || !is_finite(p.v[i]) || !is_finite(p.offset[i]) ||
+        !std::isfinite(p.radius[i]) || !(p.radius[i] > 0)) {
+      bad("particle slot " + std::to_string(i) + " has a non-finite position, velocity or offset, or a bad radius");
+    }
+  }
+  for (std::size_t k = 0; k < nb; ++k) {
+    const Quat& q = b.q[k];
+    const double q2 = q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z;
+    const Vec3 I = b.inertia[k];
+    if (!is_finite(b.x[k]) || !is_finite(b.v[k]) || !is_finite(b.L[k]) || !is_finite(b.force[k]) ||
+        !is_finite(b.torque[k]) || !(std::abs(q2 - 1) < 1e-9) || !(b.mass[k] > 0) || !std::isfinite(b.mass[k]) ||
+        b.inv_mass[k] != 1.0 / b.mass[k] || !(I.x > 0 && I.y > 0 && I.z > 0) || !is_finite(I)) {
+      bad("body " + std::to_string(k) +
+          " has a non-finite state, an orientation that is not a unit quaternion, or a mass or inertia that is not "
+          "positive");
+    }
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!(p.mass[i] > 0) || !std::isfinite(p.mass[i]) || !(p.inertia[i] > 0) || !std::isfinite(p.inertia[i]) ||
+        !(p.mass_share[i] >= 0) || !std::isfinite(p.mass_share[i])) {
+      bad("particle slot " + std::to_string(i) + " has a mass or inertia that is not positive and finite");
+    }
+  }
   std::vector<std::uint64_t> ids(p.id);
   std::sort(ids.begin(), ids.end());
   if (std::adjacent_find(ids.begin(), ids.end()) != ids.end()) bad("two particles have the same id");
@@ -289,7 +315,15 @@ void Simulation::restore(SimulationState&& s) {
 
 void Simulation::rebuild() {
   forces_.resize(particles_.size());  // wall-contact slots for particles added since the last build
-  const std::vector<std::uint32_t>& order = neighbors_.sort_by_cell(particles_, skin_);
+  const std::vector<std::uint32_t>* sorted = nullptr;
+  try {
+    sorted = &neighbors_.sort_by_cell(particles_, skin_);
+  } catch (const std::overflow_error& e) {
+    throw BlowUp("t = " + std::to_string(time_) + " s (step " + std::to_string(steps_) + "): " + e.what() +
+                 ": the state has blown up (likely causes: a time step far too large, or absurd masses, inertias "
+                 "or velocities).");
+  }
+  const std::vector<std::uint32_t>& order = *sorted;
   particles_.permute(order);
   forces_.permute(order);
   neighbors_.build(particles_, skin_, order);

@@ -166,6 +166,21 @@ TEST_CASE("Bad checkpoints and mismatched simulations are refused, naming the fi
     CHECK(fresh.sim->bodies().x == before);
     fresh.advance();  // still usable
   }
+  SECTION("rows of the neighbour list reaching past its entries (found by fuzzing)") {
+    Checkpoint c = read_checkpoint(good);
+    REQUIRE(c.simulation.neighbor_start.size() > 2);
+    c.simulation.neighbor_start[1] = 1u << 30;  // row 0 would read far past the entries
+    BuiltScenario fresh = started(scenario);
+    CHECK_THROWS_WITH(restore_checkpoint(std::move(c), fresh), Contains("row starts decrease"));
+  }
+  SECTION("particles flung beyond any sensible domain stop as a blow-up (found by fuzzing)") {
+    Checkpoint c = read_checkpoint(good);
+    c.simulation.bodies.x[0] = {1e308, 0, 0};
+    c.simulation.bodies.x[1] = {-1e308, 0, 0};
+    BuiltScenario fresh = build(load_scenario(scenario));
+    restore_checkpoint(std::move(c), fresh);  // finite: a valid state, however absurd
+    CHECK_THROWS_AS(fresh.sim->step(), BlowUp);
+  }
   SECTION("a scenario run needs the pours and random numbers") {
     BuiltScenario fresh = build(load_scenario(scenario));
     write_checkpoint(dir / "bare.h5", *run.sim);
@@ -177,16 +192,24 @@ TEST_CASE("A blown-up state is never written over a good checkpoint", "[dem][che
   const testing::CheckpointTempDir dir;
   const std::string scenario = testing::write_checkpoint_scenario(dir, 1.0);
   BuiltScenario run = started(scenario);
-  advance(run, 20);
+  advance(run, 150);
   const std::string file = dir / "checkpoint.h5";
   write_checkpoint(file, run);
   const std::string before = testing::slurp_file(file);
-  // A NaN velocity, as a blow-up leaves behind.
-  Simulation broken = *run.sim;
-  Checkpoint c = read_checkpoint(file);
-  c.simulation.bodies.v[3].x = std::numeric_limits<double>::quiet_NaN();
-  restore_checkpoint(std::move(c), broken);
-  CHECK_THROWS_WITH(write_checkpoint(file, broken), Contains(file) && Contains("non-finite") && Contains("kept"));
+  // A NaN creeps into the mass of a sphere touching a wall: the next step's forces go non-finite and
+  // the blow-up check stops it, leaving the state half-stepped.
+  Simulation& sim = *run.sim;
+  std::size_t touching = 0;
+  while (touching < sim.force_field().wall_counts().size() && sim.force_field().wall_counts()[touching] == 0) ++touching;
+  REQUIRE(touching < sim.particles().size());
+  sim.particles().mass[touching] = std::numeric_limits<double>::quiet_NaN();
+  CHECK_THROWS_AS(sim.step(), BlowUp);
+  CHECK_THROWS_WITH(write_checkpoint(file, run), Contains(file) && Contains("non-finite") && Contains("kept"));
   CHECK(testing::slurp_file(file) == before);
   CHECK_FALSE(std::filesystem::exists(file + ".tmp"));
+  // Nor is such a state restored from a (hand-made) checkpoint.
+  Checkpoint c = read_checkpoint(file);
+  c.simulation.bodies.v[3].x = std::numeric_limits<double>::quiet_NaN();
+  BuiltScenario fresh = build(load_scenario(scenario));
+  CHECK_THROWS_WITH(restore_checkpoint(std::move(c), fresh), Contains("body 3 has a non-finite state"));
 }

@@ -1,0 +1,46 @@
+#pragma once
+// The readers take file paths, so each fuzz input is written to a file first: one per process, in a
+// private temporary folder that also holds the valid files a fuzzed scenario may refer to
+// (materials.yaml, shape.yaml, mesh.stl, motion.csv), so that parsing goes past the first reference.
+#include <unistd.h>
+
+#include <cstdint>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+namespace grainscale::fuzz {
+
+inline const std::filesystem::path& work_dir() {
+  static const std::filesystem::path dir = [] {
+    std::string tmpl = (std::filesystem::temp_directory_path() / "grainscale_fuzz_XXXXXX").string();
+    if (mkdtemp(tmpl.data()) == nullptr) std::abort();
+    const std::filesystem::path d = tmpl;
+    std::ofstream(d / "materials.yaml") << "materials:\n  grain: {density: 1000, shear_modulus: 1.0e6, poisson_ratio: 0.3}\n"
+                                           "  wall: {density: 1000, shear_modulus: 1.0e8, poisson_ratio: 0.3}\n"
+                                           "pairs:\n  grain-grain: {restitution: 0.5, friction: 0.5, rolling_friction: 0.1}\n"
+                                           "  grain-wall: {restitution: 0.5, friction: 0.5, rolling_friction: 0.1}\n";
+    std::ofstream(d / "shape.yaml") << "name: pair\nlength_unit: mm\nspheres:\n  - {center: [-0.5, 0, 0], radius: 1}\n"
+                                       "  - {center: [0.5, 0, 0], radius: 1}\n";
+    std::ofstream(d / "mesh.stl") << "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\n"
+                                     "endloop\nendfacet\nendsolid t\n";
+    std::ofstream(d / "motion.csv") << "t_s,roll_deg,pitch_deg,yaw_deg,surge_m,sway_m,heave_m\n0,0,0,0,0,0,0\n"
+                                       "1,1,0,0,0.01,0,0\n2,0,0,0,0,0,0\n";
+    std::atexit([] {
+      std::error_code ec;
+      std::filesystem::remove_all(work_dir(), ec);
+    });
+    return d;
+  }();
+  return dir;
+}
+
+/// Write the fuzz input to `name` in the work folder and return its path.
+inline std::string input_file(const std::uint8_t* data, std::size_t size, const std::string& name) {
+  const std::filesystem::path p = work_dir() / name;
+  std::ofstream(p, std::ios::binary | std::ios::trunc).write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
+  return p.string();
+}
+
+}  // namespace grainscale::fuzz
