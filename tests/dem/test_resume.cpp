@@ -2,6 +2,7 @@
 // would stop it, and resumed ends with the same files, byte for byte, as a run never stopped; a
 // changed scenario is refused; a blow-up keeps the last good checkpoint; a failed write stops the run
 // with an error naming the path and leaves earlier output intact.
+#include <hdf5.h>
 #include <signal.h>
 #include <sys/resource.h>
 #include <unistd.h>
@@ -17,6 +18,7 @@
 #include "dem/dem_run.hpp"
 #include "dem/input_error.hpp"
 #include "dem/snapshot.hpp"
+#include "grainscale_version.hpp"
 
 using namespace grainscale;
 using namespace grainscale::dem;
@@ -55,6 +57,24 @@ std::vector<std::string> snapshot_names(const std::string& out) {
   for (const auto& e : fs::directory_iterator(fs::path(out) / "snapshots")) names.push_back(e.path().filename().string());
   std::sort(names.begin(), names.end());
   return names;
+}
+
+/// Rewrite the root attribute `code_version` of a checkpoint, as another build would have written it.
+void set_code_version(const std::string& file, const std::string& value) {
+  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+  REQUIRE(f >= 0);
+  REQUIRE(H5Adelete(f, "code_version") >= 0);
+  const hid_t type = H5Tcopy(H5T_C_S1);
+  H5Tset_size(type, H5T_VARIABLE);
+  H5Tset_cset(type, H5T_CSET_UTF8);
+  const hid_t space = H5Screate(H5S_SCALAR);
+  const hid_t a = H5Acreate2(f, "code_version", type, space, H5P_DEFAULT, H5P_DEFAULT);
+  const char* p = value.c_str();
+  REQUIRE(H5Awrite(a, type, &p) >= 0);
+  H5Aclose(a);
+  H5Sclose(space);
+  H5Tclose(type);
+  REQUIRE(H5Fclose(f) >= 0);
 }
 
 /// Same snapshot files with the same bytes, and the same XDMF series.
@@ -126,9 +146,19 @@ TEST_CASE("Resuming is refused without a checkpoint or with a scenario that chan
   moved.replace(moved.find("period: 0.04"), 12, "period: 0.05");
   std::ofstream(dir / "scenario.yaml") << moved;
   CHECK_THROWS_WITH(run_to_end(scenario, dir / "out", true), Contains("walls[0].motion"));
+  // Another release wrote it: refused; the same release at another revision: a warning, and on.
+  std::ofstream(dir / "scenario.yaml") << testing::checkpoint_scenario(kEnd, kOften);
+  const std::string checkpoint = dir / "out/checkpoint.h5";
+  const std::string saved = testing::slurp_file(checkpoint);
+  set_code_version(checkpoint, "0.0.1 0123abc");
+  CHECK_THROWS_WITH(run_to_end(scenario, dir / "out", true), Contains("0.0.1 0123abc") && Contains("another release"));
+  std::ofstream(checkpoint, std::ios::binary) << saved;
+  set_code_version(checkpoint, std::string(grainscale::version) + " 0123abc");
   // Output settings may change.
   testing::write_checkpoint_scenario(dir, kEnd, "progress_interval: 3");
   run_to_end(scenario, dir / "out", true);
+  CHECK_THAT(testing::slurp_file(dir / "out/log.txt"), Contains("warning: the checkpoint was written by grainscale " +
+                                                                std::string(grainscale::version) + " 0123abc"));
 }
 
 TEST_CASE("A blow-up stops the run and keeps the last good checkpoint and the snapshots",
