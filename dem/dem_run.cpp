@@ -56,7 +56,13 @@ void DemRun::setup() {
     saved = read_checkpoint(checkpoint);
   } else if (fs::exists(checkpoint)) {
     // Never let a fresh start overwrite an unfinished run's only way back.
-    const CheckpointInfo info = read_checkpoint_info(checkpoint);
+    CheckpointInfo info;
+    try {
+      info = read_checkpoint_info(checkpoint);
+    } catch (const InputError& e) {
+      throw InputError(std::string(e.what()) +
+                       "; this unreadable checkpoint is in the output folder: delete it to start afresh");
+    }
     if (!info.complete) {
       throw InputError(checkpoint + " holds an unfinished run (stopped at t = " + seconds(info.time) + " s, step " +
                        std::to_string(info.step) +
@@ -73,6 +79,8 @@ void DemRun::setup() {
                 fs::copy_options::overwrite_existing);
 
   log(std::string("grainscale ") + version + " (" + git_revision + "), scenario " + scenario_file_);
+  // Once, now: every checkpoint records the scenario as the run started (the files may change later).
+  fingerprint_ = scenario_fingerprint(scenario_);
   if (resume_) {
     resume_from(std::move(saved));
   } else {
@@ -112,7 +120,7 @@ void DemRun::resume_from(Checkpoint&& c) {
     log("warning: the checkpoint was written by grainscale " + c.code_version + ", this is " + here +
         ": the continuation is bitwise identical to an uninterrupted run only if the two builds integrate alike");
   }
-  const std::vector<std::string> now = scenario_fingerprint(scenario_);
+  const std::vector<std::string>& now = fingerprint_;
   const std::vector<std::string>& then = c.run.scenario;
   for (std::size_t k = 0; k < std::max(now.size(), then.size()); ++k) {
     const std::string a = k < then.size() ? then[k] : "(nothing)", b = k < now.size() ? now[k] : "(nothing)";
@@ -153,7 +161,7 @@ void DemRun::write_snapshot_now() {
 
 void DemRun::write_checkpoint_now() {
   RunRecord r;
-  r.scenario = scenario_fingerprint(scenario_);
+  r.scenario = fingerprint_;
   r.next_snapshot = next_snapshot_;
   for (const XdmfFrame& f : snapshots_) {
     r.snapshot_time.push_back(f.time);

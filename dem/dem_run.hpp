@@ -51,6 +51,7 @@ class DemRun {
   std::string scenario_file_, out_dir_;
   bool resume_ = false;
   Scenario scenario_;
+  std::vector<std::string> fingerprint_;  // scenario_fingerprint(scenario_) at setup
   BuiltScenario run_;
   std::ofstream log_;
   std::vector<XdmfFrame> snapshots_;

@@ -131,6 +131,10 @@ TEST_CASE("Resuming is refused without a checkpoint or with a scenario that chan
   CHECK_THROWS_WITH(run_to_end(scenario, dir / "out", true),
                     Contains("no checkpoint") && Contains(dir / "out/checkpoint.h5"));
   run_until_checkpoint(scenario, dir / "out", 2);
+  // An unreadable checkpoint in the way of a fresh start: refused too, saying what to do.
+  fs::create_directories(dir / "garbled");
+  std::ofstream(dir / "garbled/checkpoint.h5") << "not a checkpoint";
+  CHECK_THROWS_WITH(run_to_end(scenario, dir / "garbled"), Contains("not an HDF5 file") && Contains("delete it"));
 
   // Another friction coefficient: the first differing fingerprint line is quoted, old and new.
   std::string materials = testing::kCheckpointMaterials;
