@@ -1,6 +1,8 @@
 // Particle scale-up (dem/scaling.hpp, docs/scaling.md): a scaled scenario carries the documented
 // parameters, a Hertz contact lasts s times longer at the same impact speed, and narrow containers and
 // openings are reported.
+#include <unistd.h>
+
 #include <catch2/catch.hpp>
 #include <filesystem>
 #include <fstream>
@@ -24,9 +26,14 @@ namespace {
 /// barley shape; removed with the object.
 struct TempScenario {
   std::filesystem::path dir, path;
+  static int& counter() {
+    static int n = 0;
+    return n;
+  }
   TempScenario(const std::string& name, const std::string& text) {
     dir = std::filesystem::temp_directory_path() /
-          ("grainscale_scaling_" + std::to_string(std::hash<std::string>{}(name + text)));
+          ("grainscale_scaling_" + std::to_string(::getpid()) + "_" + std::to_string(counter()++) + "_" +
+           std::to_string(std::hash<std::string>{}(name + text)));  // unique: ctest -j runs cases in parallel
     std::filesystem::create_directories(dir);
     std::filesystem::copy_file(GRAINSCALE_SOURCE_DIR "/studies/materials/report_table1.yaml", dir / "materials.yaml",
                                std::filesystem::copy_options::overwrite_existing);
