@@ -222,15 +222,24 @@ std::vector<YamlMap> YamlMap::list_of_maps(const std::string& key) {
   return out;
 }
 
+std::string YamlMap::key_of(const YAML::Node& key) const {
+  // YAML allows any node as a key ({a: 1}: x, [1, 2]: x); every key here is a plain word.
+  if (!key.IsScalar()) {
+    throw InputError(file_ + ":" + std::to_string(key.Mark().line + 1) + ": a key in '" +
+                     (path_.empty() ? std::string("the top level") : path_) + "' is not a plain word");
+  }
+  return key.Scalar();
+}
+
 std::vector<std::string> YamlMap::keys() const {
   std::vector<std::string> k;
-  for (const auto& kv : node_) k.push_back(kv.first.as<std::string>());
+  for (const auto& kv : node_) k.push_back(key_of(kv.first));
   return k;
 }
 
 void YamlMap::finish() const {
   for (const auto& kv : node_) {
-    const std::string k = kv.first.as<std::string>();
+    const std::string k = key_of(kv.first);
     if (!read_.count(k)) {
       throw InputError(file_ + ":" + std::to_string(kv.first.Mark().line + 1) + ": unknown key '" + key_path(k) +
                        "' (misspelt, or not valid here)");

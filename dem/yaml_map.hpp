@@ -71,6 +71,7 @@ class YamlMap {
   const YAML::Node& require(const std::string& key);
   std::string key_path(const std::string& key) const;
   double to_number(const YAML::Node& n, const std::string& key) const;
+  std::string key_of(const YAML::Node& key) const;  // InputError unless a plain (scalar) key
 
   YAML::Node node_;
   std::string file_;
