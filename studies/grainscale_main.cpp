@@ -21,6 +21,7 @@
 #include "studies/calibrate_command.hpp"
 #include "studies/cg_plots.hpp"
 #include "studies/fit_command.hpp"
+#include "studies/openmp_wait_policy.hpp"
 #include "studies/shape_picture.hpp"
 #include "grainscale_version.hpp"
 
@@ -266,6 +267,7 @@ int run_shape(const Args& a) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  studies::prefer_passive_openmp_wait(argv);  // before any OpenMP: see openmp_wait_policy.hpp
   if (argc < 2 || !std::strcmp(argv[1], "--help") || !std::strcmp(argv[1], "-h") || !std::strcmp(argv[1], "help")) {
     std::cout << kUsage;
     return argc < 2 ? 1 : 0;
