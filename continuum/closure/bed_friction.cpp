@@ -1,0 +1,55 @@
+#include "continuum/closure/bed_friction.hpp"
+
+#include <algorithm>
+
+namespace grainscale::continuum::closure {
+
+namespace {
+constexpr double kDeg = M_PI / 180;
+}
+
+double BedFriction::mu_static(double h) const {
+  const double tphi = std::tan(internal_deg * kDeg);
+  const double floor = std::min(std::tan(basal_deg * kDeg), tphi);
+  if (!std::isfinite(layer_depth)) return floor;
+  return tphi + (floor - tphi) * std::exp(-std::max(h, 0.0) / layer_depth);
+}
+
+double BedFriction::surface_weight(double h) const {
+  if (!std::isfinite(layer_depth) || h <= 0) return 0;
+  return -std::expm1(-h / layer_depth);
+}
+
+double BedFriction::active_depth(double h) const {
+  if (h <= 0) return 0;
+  if (!std::isfinite(layer_depth)) return h;
+  return -layer_depth * std::expm1(-h / layer_depth);
+}
+
+double BedFriction::mu(double h, double a, double speed, double g_normal) const {
+  const double ms = mu_static(h);
+  if (delta_mu <= 0 || speed <= 0 || a <= 0 || g_normal <= 0) return ms;
+  const double inertial = speed * grain_diameter / (a * std::sqrt(g_normal * a));
+  return ms + delta_mu * inertial / (i0 + inertial);
+}
+
+BedFriction bed_friction_from_yaml(YamlMap m) {
+  BedFriction f;
+  f.internal_deg = m.number_or("internal_friction_deg", f.internal_deg, Range{0, 89, true, false});
+  f.basal_deg = m.number_or("basal_friction_deg", f.basal_deg, Range{0, 89, true, false});
+  f.delta_mu = m.number_or("delta_mu", f.delta_mu, Range::closed(0, 10));
+  f.i0 = m.number_or("i0", f.i0, Range{0, 100, true, false});
+  f.grain_diameter = m.number_or("grain_diameter", f.grain_diameter, Range{0, 1, true, false});
+  if (m.has("flowing_layer_depth") && m.has("flowing_layer_diameters")) {
+    throw InputError(m.where("flowing_layer_depth") + ": give flowing_layer_depth or flowing_layer_diameters, not both");
+  }
+  if (m.has("flowing_layer_depth")) {
+    f.layer_depth = m.number("flowing_layer_depth", Range{0, 1e3, true, false});
+  } else {
+    f.layer_depth = f.grain_diameter * m.number_or("flowing_layer_diameters", 10, Range{0, 1e6, true, false});
+  }
+  m.finish();
+  return f;
+}
+
+}  // namespace grainscale::continuum::closure
