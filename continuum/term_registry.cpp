@@ -2,8 +2,14 @@
 
 #include "continuum/terms/advection.hpp"
 #include "continuum/terms/background_diffusion.hpp"
+#include "continuum/terms/clustering_diffusion.hpp"
+#include "continuum/terms/concentration_segregation.hpp"
+#include "continuum/terms/lever_arm.hpp"
+#include "continuum/terms/pause_creep.hpp"
 #include "continuum/terms/segregation.hpp"
 #include "continuum/terms/shear_diffusion.hpp"
+#include "continuum/terms/surface_drift.hpp"
+#include "continuum/terms/wall_mobility.hpp"
 #include "dem/input_error.hpp"
 
 namespace grainscale::continuum {
@@ -35,6 +41,19 @@ const std::vector<TermEntry>& term_registry() {
        [](YamlMap& m) { return with_parameters(std::make_unique<ShearDiffusion>(0.0, 1e-3), m); }},
       {"background_diffusion", "∇·(D₀ ∇c)",
        [](YamlMap& m) { return with_parameters(std::make_unique<BackgroundDiffusion>(0.0), m); }},
+      // Candidate effects of `grainscale loop` (docs/loop.md), with the parameters the loop fits.
+      {"lever_arm", "centrifugal part of g_eff off the rotation axis, drift −S γ̇ ⟨ω²⟩ r / g",
+       [](YamlMap& m) { return with_parameters(std::make_unique<LeverArm>(limiter(m)), m); }, {"S"}},
+      {"surface_drift", "surface-layer drift of floating chaff to the ends, U sin(π(x/L − ½))",
+       [](YamlMap& m) { return with_parameters(std::make_unique<SurfaceDrift>(limiter(m)), m); }, {"U"}},
+      {"concentration_segregation", "∂z[S_c γ̇ c(1−c)²]: dilute chaff rises faster",
+       [](YamlMap& m) { return with_parameters(std::make_unique<ConcentrationSegregation>(limiter(m)), m); }, {"S"}},
+      {"clustering_diffusion", "∇·(C_c γ̇ d² c ∇c)",
+       [](YamlMap& m) { return with_parameters(std::make_unique<ClusteringDiffusion>(), m); }, {"C"}},
+      {"wall_mobility", "upward drift W exp(−wall distance / ℓ) at the end walls",
+       [](YamlMap& m) { return with_parameters(std::make_unique<WallMobility>(limiter(m)), m); }, {"W"}},
+      {"pause_creep", "rise f_p V during the motion's pauses, independent of γ̇",
+       [](YamlMap& m) { return with_parameters(std::make_unique<PauseCreep>(limiter(m)), m); }, {"V"}},
   };
   return entries;
 }

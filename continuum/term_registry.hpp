@@ -14,6 +14,9 @@ struct TermEntry {
   std::string name;
   std::string summary;
   std::function<std::unique_ptr<FluxTerm>(YamlMap&)> make;  // reads its keys from the term's mapping
+  /// A candidate effect for `grainscale loop` (docs/loop.md): the parameters it fits, starting at the
+  /// geometric mean of their prior range. Empty: part of the base model, not a candidate.
+  std::vector<std::string> candidate_parameters = {};
 };
 
 const std::vector<TermEntry>& term_registry();
