@@ -36,6 +36,39 @@ class CellularFlow final : public Flow {
   double background_;
 };
 
+/// A sloshing standing wave with a moving free surface (verification of the moving σ-grid, and
+/// synthetic studies of a tilting box):
+///   h(x, t) = H + a cos(k x) sin(ω t),  k = n π / L,  ω = 2π / T,
+///   q(x, t) = −(a ω / k) sin(k x) cos(ω t)       (∂h/∂t + ∂q/∂x = 0, q = 0 at the walls),
+///   ψ(x, z, t) = q(x, t) (z / h)^p + A sin(π x / L) sin(π z / h),
+/// i.e. the sloshing bulk flux spread over the depth with the profile u ∝ σ^(p−1) (p = 1: plug flow,
+/// p = 2: linear shear), plus an optional convection cell that does not cross the surface.
+/// γ̇ = |∂u/∂z| of the sloshing part (flat-bed estimate, p (p−1) |q| σ^(p−2) / h²) + γ̇₀.
+class SloshingFlow final : public Flow {
+ public:
+  struct Shape {
+    double length = 0.4, depth = 0.1;  // L, H [m]
+    double amplitude = 0.01;           // a [m], < H
+    int mode = 1;                      // n
+    double period = 2.0;               // T [s]
+    double exponent = 2;               // p ≥ 1
+    double cell = 0;                   // A [m²/s]
+    double background_shear = 0;       // γ̇₀ [1/s]
+  };
+  explicit SloshingFlow(Shape shape);
+  double stream_function(double x, double z, double t) const override;
+  double shear_rate(double x, double z, double t) const override;
+  bool steady() const override { return false; }
+  bool moving_surface() const override { return true; }
+  double surface_height(double x, double t) const override;
+  /// q(x, t) = ψ at the surface.
+  double surface_flux(double x, double t) const;
+  const Shape& shape() const { return shape_; }
+
+ private:
+  Shape shape_;
+};
+
 /// Any flow given by two functions (manufactured-solution tests, time-dependent forcing).
 class FunctionFlow final : public Flow {
  public:

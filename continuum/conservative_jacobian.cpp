@@ -10,6 +10,14 @@ namespace grainscale::continuum {
 void conservative_band_jacobian(const Model& model, double t, std::span<const double> c, int b,
                                 const std::function<void(std::size_t, std::size_t, double)>& add) {
   const Grid& g = model.grid();
+  conservative_flux_jacobian(model, t, c, b, [&](std::size_t row, std::size_t col, double v) {
+    add(row, col, v / g.area(static_cast<int>(row) / g.nz(), static_cast<int>(row) % g.nz()));
+  });
+}
+
+void conservative_flux_jacobian(const Model& model, double t, std::span<const double> c, int b,
+                                const std::function<void(std::size_t, std::size_t, double)>& add) {
+  const Grid& g = model.grid();
   const auto n = static_cast<long>(c.size());
   const long w = std::min<long>(2L * b + 1, n);
   FaceFluxes base, perturbed;
@@ -27,8 +35,8 @@ void conservative_band_jacobian(const Model& model, double t, std::span<const do
   // Enter ∂F/∂c_j of a face between cells L and R into rows L and R.
   auto enter = [&](long L, long R, long j, double dF) {
     if (dF == 0) return;
-    if (std::abs(L - j) <= b) add(L, j, -dF / g.area(static_cast<int>(L / g.nz()), static_cast<int>(L % g.nz())));
-    if (std::abs(R - j) <= b) add(R, j, dF / g.area(static_cast<int>(R / g.nz()), static_cast<int>(R % g.nz())));
+    if (std::abs(L - j) <= b) add(L, j, -dF);
+    if (std::abs(R - j) <= b) add(R, j, dF);
   };
 
   for (long group = 0; group < w; ++group) {

@@ -19,4 +19,9 @@ namespace grainscale::continuum {
 void conservative_band_jacobian(const Model& model, double t, std::span<const double> c, int b,
                                 const std::function<void(std::size_t, std::size_t, double)>& add);
 
+/// The same before the division by the cell area: add(row, column, ∂(−Σ_faces F of row)/∂c_column)
+/// (the moving-surface state, model.cpp, scales it by its own areas).
+void conservative_flux_jacobian(const Model& model, double t, std::span<const double> c, int b,
+                                const std::function<void(std::size_t, std::size_t, double)>& add);
+
 }  // namespace grainscale::continuum

@@ -7,7 +7,6 @@
 
 #include <algorithm>
 
-#include "continuum/conservative_jacobian.hpp"
 #include <cstring>
 #include <span>
 #include <stdexcept>
@@ -20,7 +19,7 @@ namespace {
 int rhs_callback(realtype t, N_Vector y, N_Vector ydot, void* user) {
   const auto* model = static_cast<const Model*>(user);
   const auto n = static_cast<std::size_t>(N_VGetLength(y));
-  model->rhs(t, std::span<const double>(N_VGetArrayPointer(y), n), std::span<double>(N_VGetArrayPointer(ydot), n));
+  model->state_rhs(t, std::span<const double>(N_VGetArrayPointer(y), n), std::span<double>(N_VGetArrayPointer(ydot), n));
   return 0;
 }
 
@@ -30,8 +29,8 @@ int jacobian_callback(realtype t, N_Vector y, N_Vector, SUNMatrix J, void* user,
   const auto n = static_cast<std::size_t>(N_VGetLength(y));
   SUNMatZero(J);
   const int b = static_cast<int>(SUNBandMatrix_UpperBandwidth(J));
-  conservative_band_jacobian(*model, t, std::span<const double>(N_VGetArrayPointer(y), n), b,
-                             [&](std::size_t row, std::size_t col, double v) {
+  model->state_jacobian(t, std::span<const double>(N_VGetArrayPointer(y), n), b,
+                        [&](std::size_t row, std::size_t col, double v) {
                                SM_ELEMENT_B(J, static_cast<sunindextype>(row), static_cast<sunindextype>(col)) += v;
                              });
   return 0;
@@ -60,8 +59,8 @@ struct CvodeIntegrator::Sundials {
 
 CvodeIntegrator::CvodeIntegrator(const Model& model, IntegratorSettings settings)
     : model_(model), settings_(std::move(settings)), s_(std::make_unique<Sundials>()) {
-  const auto n = static_cast<sunindextype>(model.size());
-  const auto bw = static_cast<sunindextype>(model.jacobian_half_bandwidth());
+  const auto n = static_cast<sunindextype>(model.state_size());
+  const auto bw = static_cast<sunindextype>(model.state_half_bandwidth());
   check(SUNContext_Create(nullptr, &s_->ctx), "SUNContext_Create");
   s_->y = N_VNew_Serial(n, s_->ctx);
   N_VConst(0.0, s_->y);

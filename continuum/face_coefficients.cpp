@@ -10,6 +10,7 @@ void FaceCoefficients::update(const Grid& g, const Flow& flow, double t) {
   shear_x.assign(x_face_count(g), 0.0);
   volume_flux_s.assign(s_face_count(g), 0.0);
   shear_s.assign(s_face_count(g), 0.0);
+  column_area_rate.assign(static_cast<std::size_t>(nx), 0.0);
 
   // ψ at the corners (x_f, σ_m h_f) of the grid; every face flux is a difference of two of them.
   std::vector<double> psi(static_cast<std::size_t>(nx + 1) * (nz + 1));
@@ -30,6 +31,13 @@ void FaceCoefficients::update(const Grid& g, const Flow& flow, double t) {
       volume_flux_s[s_face(g, i, m)] = face_volume_flux(corner(i + 1, m), corner(i, m));
       shear_s[s_face(g, i, m)] = flow.shear_rate(g.x_centre(i), g.sigma_face(m) * g.h_column(i), t);
     }
+  }
+  if (!flow.moving_surface()) return;
+  // (F1): the faces move with σ_m ȧ_i; the surface face (m = nz, σ = 1 exactly) gets Q_rel = 0.
+  for (int i = 0; i < nx; ++i) {
+    const double rate = corner(i, nz) - corner(i + 1, nz);
+    column_area_rate[i] = rate;
+    for (int m = 0; m <= nz; ++m) volume_flux_s[s_face(g, i, m)] -= (static_cast<double>(m) / nz) * rate;
   }
 }
 

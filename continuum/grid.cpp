@@ -22,6 +22,20 @@ Grid::Grid(double length, int nx, int nz, std::vector<double> surface_nodes)
   }
   dx_ = length / nx;
   dsigma_ = 1.0 / nz;
+  depth_.resize(static_cast<std::size_t>(nx));
+  for (int i = 0; i < nx; ++i) depth_[i] = 0.5 * (h_[i] + h_[i + 1]);
+}
+
+Grid::Grid(double length, int nx, int nz, std::vector<double> surface_nodes, std::vector<double> column_depths)
+    : Grid(length, nx, nz, std::move(surface_nodes)) {
+  if (column_depths.size() != static_cast<std::size_t>(nx)) {
+    throw InputError("continuum grid: need nx = " + std::to_string(nx) + " column depths, got " +
+                     std::to_string(column_depths.size()));
+  }
+  for (double d : column_depths) {
+    if (!(d > 0) || !std::isfinite(d)) throw InputError("continuum grid: column depths must be finite and > 0");
+  }
+  depth_ = std::move(column_depths);
 }
 
 Grid Grid::flat(double length, double depth, int nx, int nz) {

@@ -27,8 +27,9 @@ struct IntegratorStats {
 class TimeIntegrator {
  public:
   virtual ~TimeIntegrator() = default;
-  /// Advance c from t0 to t1. t1 is a stop time: no step passes it, so the forcing may change there.
-  virtual void advance(double t0, double t1, std::vector<double>& c) = 0;
+  /// Advance the model's state (Model::state(); c itself for a fixed surface) from t0 to t1. t1 is a
+  /// stop time: no step passes it, so the forcing may change there.
+  virtual void advance(double t0, double t1, std::vector<double>& state) = 0;
   /// The forcing jumps at the current time (a pause or switch of the motion): forget the history.
   virtual void restart() = 0;
   virtual std::string name() const = 0;

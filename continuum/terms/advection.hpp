@@ -14,6 +14,7 @@ class Advection final : public FluxTerm {
   void add_fluxes(const TermContext& ctx, std::span<const double> c, FaceFluxes& out) const override;
   void add_rate_bound(const TermContext& ctx, std::span<double> rate) const override;
   int jacobian_half_bandwidth(const Grid& grid) const override;
+  Limiter limiter() const { return limiter_; }
 
  private:
   Limiter limiter_;

@@ -1,0 +1,265 @@
+#include "continuum/depth_averaged.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "continuum/model.hpp"
+#include "continuum/terms/advection.hpp"
+
+namespace grainscale::continuum {
+
+namespace {
+
+double logistic(double x) {
+  if (x >= 0) return 1 / (1 + std::exp(-x));
+  const double e = std::exp(x);
+  return e / (1 + e);
+}
+
+constexpr int kMinSamples = 64;
+constexpr double kMaxStep = 30;  // largest Λ increment per sample: beyond it the profile is a step anyway
+
+}  // namespace
+
+void equilibrium_profile(std::span<const double> Lambda, double theta, std::span<double> c) {
+  const std::size_t n = Lambda.size();
+  if (theta <= 0) {
+    std::fill(c.begin(), c.end(), 0.0);
+    return;
+  }
+  if (theta >= 1) {
+    std::fill(c.begin(), c.end(), 1.0);
+    return;
+  }
+  // mean_j logistic(Λ_j − μ) decreases in μ; with L = logit θ it is ≥ θ at μ = min Λ − L and
+  // ≤ θ at μ = max Λ − L. Safeguarded Newton inside that bracket.
+  const double L = std::log(theta / (1 - theta));
+  const auto [mn, mx] = std::minmax_element(Lambda.begin(), Lambda.end());
+  double lo = *mn - L, hi = *mx - L;
+  auto mean = [&](double mu, double& slope) {
+    double s = 0, d = 0;
+    for (std::size_t j = 0; j < n; ++j) {
+      const double v = logistic(Lambda[j] - mu);
+      c[j] = v;
+      s += v;
+      d += v * (1 - v);
+    }
+    slope = -d / n;
+    return s / n - theta;
+  };
+  double mu = 0.5 * (lo + hi), slope = 0;
+  for (int it = 0; it < 200; ++it) {
+    const double f = mean(mu, slope);
+    if (f == 0) break;
+    if (f > 0) lo = mu; else hi = mu;
+    double next = slope < 0 ? mu - f / slope : 0.5 * (lo + hi);
+    if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+    if (std::abs(next - mu) <= 4 * std::numeric_limits<double>::epsilon() * std::max(1.0, std::abs(mu))) {
+      mu = next;
+      break;
+    }
+    mu = next;
+  }
+  (void)mean(mu, slope);
+}
+
+DepthAveraged::Coefficients DepthAveraged::coefficients(const Model& m) {
+  Coefficients k;
+  if (m.has_term("segregation")) k.S = m.parameter("segregation.S");
+  if (m.has_term("shear_diffusion")) {
+    const double d = m.parameter("shear_diffusion.d");
+    k.per_shear = m.parameter("shear_diffusion.C") * d * d;
+  }
+  if (m.has_term("background_diffusion")) k.D0 = m.parameter("background_diffusion.D0");
+  if (m.has_term("advection")) {
+    k.velocity_scale = m.parameter("advection.velocity_scale");
+    if (const auto* a = dynamic_cast<const Advection*>(&m.term("advection"))) k.limiter = a->limiter();
+  }
+  return k;
+}
+
+bool DepthAveraged::supports(const std::string& name) {
+  return name == "advection" || name == "segregation" || name == "shear_diffusion" || name == "background_diffusion";
+}
+
+std::string DepthAveraged::supported_terms() { return "advection, segregation, shear_diffusion, background_diffusion"; }
+
+DepthAveraged::DepthAveraged(const Grid& grid)
+    : nsub_(std::max(1, (kMinSamples + grid.nz() - 1) / grid.nz())), samples_(grid.nz() * nsub_) {}
+
+void DepthAveraged::prepare(const Grid& g, const Flow& flow, double t) const {
+  if (prepared_ && (flow.steady() || t == prepared_time_)) return;
+  const int N = samples_;
+  const Grid fine(g.length(), g.nx(), N, g.surface_nodes(), g.column_depths());
+  fine_.update(fine, flow, t);
+  col_shear_.resize(static_cast<std::size_t>(g.nx()) * N);
+  for (int i = 0; i < g.nx(); ++i) {
+    for (int j = 0; j < N; ++j) {
+      col_shear_[static_cast<std::size_t>(i) * N + j] = flow.shear_rate(g.x_centre(i), (j + 0.5) / N * g.h_column(i), t);
+    }
+  }
+  prepared_ = true;
+  prepared_time_ = t;
+}
+
+void DepthAveraged::lambda(const Coefficients& k, const double* shear, double h, std::vector<double>& out) const {
+  const int N = samples_;
+  out.resize(N);
+  const double dz = h / N;
+  double cumulative = 0;
+  for (int j = 0; j < N; ++j) {
+    const double D = k.per_shear * shear[j] + k.D0;
+    const double w = k.S * shear[j];
+    double step = D > 0 ? w / D * dz : (w > 0 ? kMaxStep : (w < 0 ? -kMaxStep : 0.0));
+    step = std::clamp(step, -kMaxStep, kMaxStep);
+    out[j] = cumulative + 0.5 * step;
+    cumulative += step;
+  }
+}
+
+void DepthAveraged::profile(const Coefficients& k, const double* shear, double h, double theta,
+                            std::span<double> c) const {
+  lambda(k, shear, h, scratch_lambda_);
+  equilibrium_profile(scratch_lambda_, std::clamp(theta, 0.0, 1.0), c);
+}
+
+std::vector<double> DepthAveraged::inventory(const Grid& g, std::span<const double> c) const {
+  std::vector<double> I(static_cast<std::size_t>(g.nx()), 0.0);
+  for (int i = 0; i < g.nx(); ++i) {
+    double s = 0;
+    for (int k = 0; k < g.nz(); ++k) s += c[g.index(i, k)];
+    I[i] = s * g.dsigma() * g.h_column(i);
+  }
+  return I;
+}
+
+std::vector<double> DepthAveraged::concentration(const Grid& g, const Flow& flow, double t, const Coefficients& k,
+                                                 std::span<const double> I) const {
+  prepare(g, flow, t);
+  const int N = samples_;
+  std::vector<double> c(g.cells()), col(N);
+  for (int i = 0; i < g.nx(); ++i) {
+    profile(k, &col_shear_[static_cast<std::size_t>(i) * N], g.h_column(i), I[i] / g.h_column(i), col);
+    for (int kk = 0; kk < g.nz(); ++kk) {
+      double s = 0;
+      for (int j = kk * nsub_; j < (kk + 1) * nsub_; ++j) s += col[j];
+      c[g.index(i, kk)] = s / nsub_;
+    }
+  }
+  return c;
+}
+
+void DepthAveraged::fluxes(const Grid& g, const Flow& flow, double t, const Coefficients& k, std::span<const double> I,
+                           std::vector<double>& F) const {
+  prepare(g, flow, t);
+  const int nx = g.nx(), N = samples_;
+  const double dx = g.dx(), ds = 1.0 / N;
+  F.assign(static_cast<std::size_t>(nx) + 1, 0.0);
+  if (nx < 2) return;
+  std::vector<double> theta(nx);
+  for (int i = 0; i < nx; ++i) theta[i] = std::clamp(I[i] / g.h_column(i), 0.0, 1.0);
+  col_c_.resize(static_cast<std::size_t>(nx) * N);
+  for (int i = 0; i < nx; ++i) {
+    profile(k, &col_shear_[static_cast<std::size_t>(i) * N], g.h_column(i), theta[i],
+            std::span<double>(&col_c_[static_cast<std::size_t>(i) * N], N));
+  }
+  auto col = [&](int i, int j) { return col_c_[static_cast<std::size_t>(i) * N + j]; };
+  auto d_sigma = [&](int i, int j) {
+    if (N == 1) return 0.0;
+    if (j == 0) return (col(i, 1) - col(i, 0)) / ds;
+    if (j == N - 1) return (col(i, j) - col(i, j - 1)) / ds;
+    return (col(i, j + 1) - col(i, j - 1)) / (2 * ds);
+  };
+  // Limited slopes of θ (zero in the wall columns).
+  std::vector<double> slope(nx, 0.0);
+  if (k.limiter != Limiter::first_order) {
+    for (int i = 1; i + 1 < nx; ++i) slope[i] = limited_slope(k.limiter, theta[i] - theta[i - 1], theta[i + 1] - theta[i]);
+  }
+  face_l_.resize(N);
+  face_r_.resize(N);
+  std::vector<double> face_shear(N);
+  const Grid fine(g.length(), nx, N, g.surface_nodes(), g.column_depths());
+  for (int f = 1; f < nx; ++f) {
+    const double h = g.h_node(f), hx = g.slope_node(f);
+    for (int j = 0; j < N; ++j) face_shear[j] = fine_.shear_x[x_face(fine, f, j)];
+    double flux = 0;
+    if (k.velocity_scale != 0) {
+      const double* left = &col_c_[static_cast<std::size_t>(f - 1) * N];
+      const double* right = &col_c_[static_cast<std::size_t>(f) * N];
+      if (k.limiter != Limiter::first_order) {
+        profile(k, face_shear.data(), h, theta[f - 1] + 0.5 * slope[f - 1], face_l_);
+        profile(k, face_shear.data(), h, theta[f] - 0.5 * slope[f], face_r_);
+        left = face_l_.data();
+        right = face_r_.data();
+      }
+      for (int j = 0; j < N; ++j) {
+        const double q = k.velocity_scale * fine_.volume_flux_x[x_face(fine, f, j)];
+        flux += q > 0 ? q * left[j] : q * right[j];
+      }
+    }
+    // Diffusion, (D1) on the N sample layers.
+    for (int j = 0; j < N; ++j) {
+      const double D = k.per_shear * face_shear[j] + k.D0;
+      if (D == 0) continue;
+      const double c_xi = (col(f, j) - col(f - 1, j)) / dx;
+      const double cross = hx != 0 ? (j + 0.5) * ds * hx / h * 0.5 * (d_sigma(f - 1, j) + d_sigma(f, j)) : 0.0;
+      flux -= D * h * ds * (c_xi - cross);
+    }
+    F[f] = flux;
+  }
+}
+
+void DepthAveraged::rhs(const Grid& g, const Flow& flow, double t, const Coefficients& k, std::span<const double> I,
+                        std::span<double> dIdt) const {
+  fluxes(g, flow, t, k, I, F_base_);
+  for (int i = 0; i < g.nx(); ++i) dIdt[i] = -(F_base_[i + 1] - F_base_[i]) / g.dx();
+}
+
+double DepthAveraged::max_rate(const Grid& g, const Flow& flow, double t, const Coefficients& k) const {
+  // |∂F/∂I| ≤ max |u| over the face (the profile's samples are non-negative and average to θ, and
+  // ∂c_j/∂I ≥ 0), and ≤ max D (1 + |h_x|) / dx for the dispersion: two faces per column.
+  prepare(g, flow, t);
+  const int N = samples_;
+  const Grid fine(g.length(), g.nx(), N, g.surface_nodes(), g.column_depths());
+  double rate = 0;
+  for (int f = 1; f < g.nx(); ++f) {
+    const double h = g.h_node(f);
+    double u = 0, D = 0;
+    for (int j = 0; j < N; ++j) {
+      u = std::max(u, std::abs(k.velocity_scale * fine_.volume_flux_x[x_face(fine, f, j)]) / (h / N));
+      D = std::max(D, k.per_shear * fine_.shear_x[x_face(fine, f, j)] + k.D0);
+    }
+    rate = std::max(rate, 2 * (u / g.dx() + D * (1 + std::abs(g.slope_node(f))) / (g.dx() * g.dx())));
+  }
+  return rate;
+}
+
+void DepthAveraged::jacobian(const Grid& g, const Flow& flow, double t, const Coefficients& k,
+                             std::span<const double> I, int b,
+                             const std::function<void(std::size_t, std::size_t, double)>& add) const {
+  // As conservative_jacobian.hpp: face f (columns L = f − 1, R = f) depends on columns L − 1 .. L + 2.
+  const long n = g.nx();
+  const long w = std::min<long>(2L * b + 1, n);
+  std::vector<double> base;
+  fluxes(g, flow, t, k, I, base);
+  std::vector<double> Ip(I.begin(), I.end()), inc(n);
+  const double root_eps = std::sqrt(std::numeric_limits<double>::epsilon());
+  for (long j = 0; j < n; ++j) inc[j] = root_eps * std::max(std::abs(I[j]), 1e-3 * g.h_column(static_cast<int>(j)));
+  for (long group = 0; group < w; ++group) {
+    for (long j = group; j < n; j += w) Ip[j] = I[j] + inc[j];
+    fluxes(g, flow, t, k, Ip, F_pert_);
+    for (long j = group; j < n; j += w) Ip[j] = I[j];
+    for (long f = 1; f < n; ++f) {
+      const long L = f - 1, R = f;
+      const long j = L - b + ((group - (L - b)) % w + w) % w;
+      if (j < 0 || j >= n || j > L + b) continue;
+      const double dF = (F_pert_[f] - base[f]) / inc[j];
+      if (dF == 0) continue;
+      if (std::abs(L - j) <= b) add(L, j, -dF / g.dx());
+      if (std::abs(R - j) <= b) add(R, j, dF / g.dx());
+    }
+  }
+}
+
+}  // namespace grainscale::continuum
