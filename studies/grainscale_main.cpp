@@ -21,6 +21,7 @@
 #include "studies/calibrate_command.hpp"
 #include "studies/cg_plots.hpp"
 #include "studies/fit_command.hpp"
+#include "studies/hold_command.hpp"
 #include "studies/openmp_wait_policy.hpp"
 #include "studies/shape_picture.hpp"
 #include "grainscale_version.hpp"
@@ -52,6 +53,11 @@ commands:
         run the continuum advection-diffusion-segregation model (SUNDIALS CVODE or
         SSP-RK3) and write c(x, z, t), chaff per slice and surface coverage
         (settings: docs/continuum.md)
+  hold SETTINGS.yaml [--out DIR]
+        hold-scale prediction without DEM: a depth-averaged granular flow closure
+        on the moving container drives the chaff model over days of motion
+        (resolved cycles, then the cycle-averaged model); writes surface chaff,
+        end-wall shares, spear samples, maps (PNG, CSV, HDF5) (docs/hold_prediction.md)
   fit SETTINGS.yaml [--out DIR]
         fit continuum coefficients (S, C, D0, kappa, ...) to concentration fields
         and/or coverage profiles (CSV); writes fit.yaml (values, standard errors,
@@ -285,6 +291,7 @@ int main(int argc, char** argv) {
     if (cmd == "bench") return run_bench(a);
     if (cmd == "cg") return run_cg(a);
     if (cmd == "predict") return run_predict(a);
+    if (cmd == "hold") return studies::hold_command(a.positional, a.out);
     if (cmd == "fit") return studies::fit_command(a.positional, a.out);
     if (cmd == "calibrate") return studies::calibrate_main(a.positional, a.out, a.threads);
     if (cmd == "shape") return run_shape(a);

@@ -1,0 +1,79 @@
+#pragma once
+// A hold-scale prediction: the flow closure (continuum/closure/) drives the chaff model (continuum/)
+// on the top window of the bed, in chunks of one motion cycle: the closure is stepped over the chunk
+// and its states recorded, then the chaff model is integrated over the same chunk reading them.
+// After `resolved_chunks` chunks the Eulerian cycle average of the last `average_chunks` chunks
+// (⟨u_s⟩ for transport, ⟨|u_s|⟩ for the shear rate that drives segregation and diffusion) replaces
+// the resolved flow, and the slow-time model runs steadily to the end (docs/hold_prediction.md).
+#include <functional>
+#include <iosfwd>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "continuum/closure/closure_flow.hpp"
+#include "continuum/model.hpp"
+#include "studies/hold_settings.hpp"
+
+namespace grainscale::studies {
+
+/// The closure and the chaff model together; the unit the driver and the tests step.
+class HoldModel {
+ public:
+  explicit HoldModel(const HoldSettings& s);
+
+  double time() const { return t_; }
+  const std::vector<double>& chaff() const { return c_; }
+  const continuum::Model& model() const { return *model_; }
+  const continuum::closure::ShallowGranularFlow& closure() const { return closure_; }
+  bool averaged() const { return averaged_; }
+  long chunks() const { return chunks_; }
+
+  /// Resolve one chunk of the motion [t, t + chunk] (closure then chaff); `stops` inside it are
+  /// times at which `at_stop` sees the chaff field.
+  void resolve_chunk(const std::vector<double>& stops = {}, const std::function<void(double)>& at_stop = {});
+  /// Switch to the cycle-averaged slow-time model, averaging the chunks resolved since
+  /// start_averaging() (or the last chunk if never called).
+  void switch_to_average();
+  /// Begin accumulating the cycle average from the next resolved chunk on.
+  void start_averaging();
+  /// Averaged model only: integrate to t1 (stopping at `stops`).
+  void advance_averaged(double t1, const std::vector<double>& stops = {}, const std::function<void(double)>& at_stop = {});
+  /// Cycle-averaged surface speed ⟨u_s⟩ and ⟨|u_s|⟩ at the faces (valid after switch_to_average()).
+  const continuum::closure::FlowSample& average() const { return average_; }
+  long closure_steps() const { return closure_.steps(); }
+  long chaff_steps() const;
+
+ private:
+  void build_model(std::shared_ptr<const continuum::closure::FlowRecord> record);
+  void integrate(double t0, double t1, const std::vector<double>& stops, const std::function<void(double)>& at_stop);
+
+  HoldSettings s_;
+  continuum::closure::ShallowGranularFlow closure_;
+  std::shared_ptr<continuum::closure::FlowRecord> record_;
+  std::unique_ptr<continuum::Model> model_;
+  std::unique_ptr<continuum::TimeIntegrator> integrator_;
+  long chaff_steps_done_ = 0;
+  std::vector<double> c_;
+  double t_ = 0;
+  long chunks_ = 0;
+  bool averaged_ = false;
+  bool accumulating_ = false;
+  long accumulated_ = 0;
+  continuum::closure::FlowSample sum_, average_;
+};
+
+struct HoldResult {
+  std::vector<double> times;                      // output times, including 0 [s]
+  std::vector<std::vector<double>> fields;        // chaff c per time (cells)
+  std::vector<std::vector<double>> surface;       // closure h per time (cells) [m]
+  std::vector<int> averaged;                      // 1 where the time was reached by the averaged model
+  long resolved_chunks = 0, closure_steps = 0, chaff_steps = 0;
+  double wall_seconds = 0, chaff_initial = 0, chaff_final = 0, c_min = 0, c_max = 0;
+  std::vector<double> average_speed, average_abs_speed;  // ⟨u_s⟩, ⟨|u_s|⟩ at faces (if averaged)
+};
+
+/// Run to time.end, printing progress to `log` (may be null). The model is returned for output.
+HoldResult run_hold(const HoldSettings& s, std::unique_ptr<HoldModel>& model, std::ostream* log);
+
+}  // namespace grainscale::studies
