@@ -1,7 +1,8 @@
 #pragma once
 // The readers take file paths, so each fuzz input is written to a file first: one per process, in a
 // private temporary folder that also holds the valid files a fuzzed scenario may refer to
-// (materials.yaml, shape.yaml, mesh.stl, motion.csv), so that parsing goes past the first reference.
+// (materials.yaml, shape.yaml, mesh.stl, motion.csv, continuum.yaml, fields.csv, coverage.csv, a
+// snapshots/ folder), so that parsing goes past the first reference.
 #include <unistd.h>
 
 #include <cstdint>
@@ -27,6 +28,16 @@ inline const std::filesystem::path& work_dir() {
                                      "endloop\nendfacet\nendsolid t\n";
     std::ofstream(d / "motion.csv") << "t_s,roll_deg,pitch_deg,yaw_deg,surge_m,sway_m,heave_m\n0,0,0,0,0,0,0\n"
                                        "1,1,0,0,0.01,0,0\n2,0,0,0,0,0,0\n";
+    // For the later stages' readers: continuum settings, measured data, a folder of snapshots.
+    std::ofstream(d / "continuum.yaml") << "grid: {length: 0.8, nx: 8, nz: 4, depth: 0.1}\n"
+                                           "flow: {type: cellular, amplitude: 5.0e-4, background_shear: 0.05}\n"
+                                           "terms:\n  advection: {limiter: van_leer}\n  segregation: {S: 1.0e-3}\n"
+                                           "initial: {type: layers, below: 0.04, above: 0.0, split: 0.5}\n"
+                                           "time: {end: 10, outputs: 2}\noutput: {folder: out}\n";
+    std::ofstream(d / "fields.csv") << "t_s,x_m,z_m,c\n5,0.1,0.05,0.01\n10,0.5,0.02,nan\n10,0.7,0.08,0.03\n";
+    std::ofstream(d / "coverage.csv") << "t_s,x_m,coverage,sigma\n5,0.1,0.2,0.05\n10,0.7,0.4,0.05\n";
+    std::filesystem::create_directory(d / "snapshots");
+    std::ofstream(d / "snapshots" / "snap_000000.h5") << "";
     std::atexit([] {
       std::error_code ec;
       std::filesystem::remove_all(work_dir(), ec);
