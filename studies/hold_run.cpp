@@ -6,6 +6,7 @@
 #include <limits>
 #include <ostream>
 
+#include "continuum/analytic_flows.hpp"
 #include "continuum/integrator.hpp"
 #include "continuum/term_registry.hpp"
 #include "dem/yaml_map.hpp"
@@ -62,6 +63,27 @@ void HoldModel::build_model(std::shared_ptr<const FlowRecord> record) {
   integrator_ = continuum::make_integrator(s_.integrator, *model_);
 }
 
+void HoldModel::build_averaged_model() {
+  if (!sampler_ || sampler_->cycles() == 0) {
+    // Nothing sampled (switched without start_averaging): sample the last state as one cycle.
+    sampler_ = std::make_unique<continuum::closure::CycleFluxSampler>(model_->grid());
+    continuum::FaceFluxes f;
+    model_->face_fluxes(t_, c_, f);
+    sampler_->sample(t_ - s_.chunk, f, c_);
+    sampler_->sample(t_, f, c_);
+    sampler_->end_cycle();
+  }
+  std::vector<double> vx, kx, vs, ks;
+  sampler_->fit(vx, kx, vs, ks);
+  if (integrator_) chaff_steps_done_ += integrator_->stats().steps;
+  integrator_.reset();
+  model_ = std::make_unique<continuum::Model>(model_->grid(), std::make_shared<continuum::UniformShear>(0.0));
+  model_->add_term(std::make_unique<continuum::closure::CycleAveragedTransport>(vx, kx, vs, ks));
+  continuum::IntegratorSettings steady = s_.integrator;
+  steady.max_dt = 0;
+  integrator_ = continuum::make_integrator(steady, *model_);
+}
+
 long HoldModel::chaff_steps() const { return chaff_steps_done_ + (integrator_ ? integrator_->stats().steps : 0); }
 
 void HoldModel::integrate(double t0, double t1, const std::vector<double>& stops,
@@ -90,12 +112,33 @@ void HoldModel::resolve_chunk(const std::vector<double>& stops, const std::funct
     for (std::size_t i = 0; i < sum_.depth.size(); ++i) sum_.depth[i] += avg.depth[i];
     ++accumulated_;
   }
-  integrate(t_, t1, stops, at_stop);
+  if (accumulating_) {
+    // Sample the chaff fluxes through the cycle for the slow-time model (A1).
+    std::vector<double> sub = stops;
+    for (int k = 1; k <= kSamplesPerCycle; ++k) sub.push_back(t_ + s_.chunk * k / kSamplesPerCycle);
+    std::sort(sub.begin(), sub.end());
+    sub.erase(std::unique(sub.begin(), sub.end()), sub.end());
+    continuum::FaceFluxes f;
+    if (sampler_->cycles() == 0) {
+      model_->face_fluxes(t_, c_, f);
+      sampler_->sample(t_, f, c_);
+    }
+    const std::vector<double> outs = stops;
+    integrate(t_, t1, sub, [&](double t) {
+      model_->face_fluxes(t, c_, f);
+      sampler_->sample(t, f, c_);
+      if (at_stop && std::find(outs.begin(), outs.end(), t) != outs.end()) at_stop(t);
+    });
+    sampler_->end_cycle();
+  } else {
+    integrate(t_, t1, stops, at_stop);
+  }
   t_ = t1;
   ++chunks_;
 }
 
 void HoldModel::start_averaging() {
+  sampler_ = std::make_unique<continuum::closure::CycleFluxSampler>(model_->grid());
   accumulating_ = true;
   accumulated_ = 0;
 }
@@ -107,9 +150,7 @@ void HoldModel::switch_to_average() {
   for (double& v : average_.abs_speed) v /= n;
   for (double& v : average_.depth) v /= n;
   average_.t = t_;
-  auto avg = std::make_shared<FlowRecord>(s_.length, s_.nx);
-  avg->append(average_);
-  build_model(avg);
+  build_averaged_model();
   averaged_ = true;
 }
 

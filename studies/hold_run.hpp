@@ -2,9 +2,10 @@
 // A hold-scale prediction: the flow closure (continuum/closure/) drives the chaff model (continuum/)
 // on the top window of the bed, in chunks of one motion cycle: the closure is stepped over the chunk
 // and its states recorded, then the chaff model is integrated over the same chunk reading them.
-// After `resolved_chunks` chunks the Eulerian cycle average of the last `average_chunks` chunks
-// (⟨u_s⟩ for transport, ⟨|u_s|⟩ for the shear rate that drives segregation and diffusion) replaces
-// the resolved flow, and the slow-time model runs steadily to the end (docs/hold_prediction.md).
+// After `resolved_chunks` chunks the chaff fluxes of the last `average_chunks` chunks give the
+// cycle-averaged drift and dispersion per face (cycle_averaged_transport.hpp, (A1)), and that
+// slow-time model runs, steady, to the end (docs/hold_prediction.md). The Eulerian cycle average of
+// the flow (⟨u_s⟩, ⟨|u_s|⟩) is kept for the record: it misses the rectified drift.
 #include <functional>
 #include <iosfwd>
 #include <memory>
@@ -12,6 +13,7 @@
 #include <vector>
 
 #include "continuum/closure/closure_flow.hpp"
+#include "continuum/closure/cycle_averaged_transport.hpp"
 #include "continuum/model.hpp"
 #include "studies/hold_settings.hpp"
 
@@ -46,6 +48,7 @@ class HoldModel {
 
  private:
   void build_model(std::shared_ptr<const continuum::closure::FlowRecord> record);
+  void build_averaged_model();
   void integrate(double t0, double t1, const std::vector<double>& stops, const std::function<void(double)>& at_stop);
 
   HoldSettings s_;
@@ -61,6 +64,8 @@ class HoldModel {
   bool accumulating_ = false;
   long accumulated_ = 0;
   continuum::closure::FlowSample sum_, average_;
+  std::unique_ptr<continuum::closure::CycleFluxSampler> sampler_;
+  static constexpr int kSamplesPerCycle = 50;
 };
 
 struct HoldResult {
