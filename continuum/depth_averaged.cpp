@@ -22,7 +22,7 @@ constexpr double kMaxStep = 30;  // largest Λ increment per sample: beyond it t
 
 }  // namespace
 
-void equilibrium_profile(std::span<const double> Lambda, double theta, std::span<double> c) {
+void equilibrium_profile(std::span<const double> Lambda, double theta, std::span<double> c, double* mu_guess) {
   const std::size_t n = Lambda.size();
   if (theta <= 0) {
     std::fill(c.begin(), c.end(), 0.0);
@@ -48,20 +48,23 @@ void equilibrium_profile(std::span<const double> Lambda, double theta, std::span
     slope = -d / n;
     return s / n - theta;
   };
-  double mu = 0.5 * (lo + hi), slope = 0;
+  double mu = mu_guess && *mu_guess > lo && *mu_guess < hi ? *mu_guess : 0.5 * (lo + hi), slope = 0;
+  bool filled = false;  // c holds the profile at mu
   for (int it = 0; it < 200; ++it) {
     const double f = mean(mu, slope);
-    if (f == 0) break;
+    filled = true;
+    // Converged when the mean is θ to round-off (the sum of N terms carries ~N ε relative error).
+    if (std::abs(f) <= 4 * std::numeric_limits<double>::epsilon() * theta) break;
     if (f > 0) lo = mu; else hi = mu;
     double next = slope < 0 ? mu - f / slope : 0.5 * (lo + hi);
     if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
-    if (std::abs(next - mu) <= 4 * std::numeric_limits<double>::epsilon() * std::max(1.0, std::abs(mu))) {
-      mu = next;
-      break;
-    }
+    // Converged when the next step is at round-off: keep the profile just computed.
+    if (std::abs(next - mu) <= 4 * std::numeric_limits<double>::epsilon() * std::max(1.0, std::abs(mu))) break;
     mu = next;
+    filled = false;
   }
-  (void)mean(mu, slope);
+  if (!filled) (void)mean(mu, slope);
+  if (mu_guess) *mu_guess = mu;
 }
 
 DepthAveraged::Coefficients DepthAveraged::coefficients(const Model& m) {
@@ -86,7 +89,9 @@ bool DepthAveraged::supports(const std::string& name) {
 std::string DepthAveraged::supported_terms() { return "advection, segregation, shear_diffusion, background_diffusion"; }
 
 DepthAveraged::DepthAveraged(const Grid& grid)
-    : nsub_(std::max(1, (kMinSamples + grid.nz() - 1) / grid.nz())), samples_(grid.nz() * nsub_) {}
+    : nsub_(std::max(1, (kMinSamples + grid.nz() - 1) / grid.nz())),
+      samples_(grid.nz() * nsub_),
+      mu_(3 * static_cast<std::size_t>(grid.nx() + 1), std::numeric_limits<double>::quiet_NaN()) {}
 
 void DepthAveraged::prepare(const Grid& g, const Flow& flow, double t) const {
   if (prepared_ && (flow.steady() || t == prepared_time_)) return;
@@ -101,6 +106,7 @@ void DepthAveraged::prepare(const Grid& g, const Flow& flow, double t) const {
   }
   prepared_ = true;
   prepared_time_ = t;
+  ++prepared_stamp_;
 }
 
 void DepthAveraged::lambda(const Coefficients& k, const double* shear, double h, std::vector<double>& out) const {
@@ -118,10 +124,25 @@ void DepthAveraged::lambda(const Coefficients& k, const double* shear, double h,
   }
 }
 
-void DepthAveraged::profile(const Coefficients& k, const double* shear, double h, double theta,
+void DepthAveraged::profile(const Coefficients& k, int slot, const double* shear, double h, double theta,
                             std::span<double> c) const {
-  lambda(k, shear, h, scratch_lambda_);
-  equilibrium_profile(scratch_lambda_, std::clamp(theta, 0.0, 1.0), c);
+  // Λ depends on the coefficients and the flow, not on the state: cached per slot.
+  const std::size_t N = samples_;
+  if (lambda_valid_.size() != mu_.size() || k.S != lambda_key_[0] || k.per_shear != lambda_key_[1] ||
+      k.D0 != lambda_key_[2] || prepared_stamp_ != lambda_stamp_) {
+    lambda_valid_.assign(mu_.size(), 0);
+    lambda_cache_.resize(mu_.size() * N);
+    lambda_key_ = {k.S, k.per_shear, k.D0};
+    lambda_stamp_ = prepared_stamp_;
+  }
+  const auto cache = static_cast<std::size_t>(slot);
+  double* Lambda = &lambda_cache_[cache * N];
+  if (!lambda_valid_[cache]) {
+    lambda(k, shear, h, scratch_lambda_);
+    std::copy(scratch_lambda_.begin(), scratch_lambda_.end(), Lambda);
+    lambda_valid_[cache] = 1;
+  }
+  equilibrium_profile(std::span<const double>(Lambda, N), std::clamp(theta, 0.0, 1.0), c, &mu_[cache]);
 }
 
 std::vector<double> DepthAveraged::inventory(const Grid& g, std::span<const double> c) const {
@@ -140,7 +161,7 @@ std::vector<double> DepthAveraged::concentration(const Grid& g, const Flow& flow
   const int N = samples_;
   std::vector<double> c(g.cells()), col(N);
   for (int i = 0; i < g.nx(); ++i) {
-    profile(k, &col_shear_[static_cast<std::size_t>(i) * N], g.h_column(i), I[i] / g.h_column(i), col);
+    profile(k, 3 * i, &col_shear_[static_cast<std::size_t>(i) * N], g.h_column(i), I[i] / g.h_column(i), col);
     for (int kk = 0; kk < g.nz(); ++kk) {
       double s = 0;
       for (int j = kk * nsub_; j < (kk + 1) * nsub_; ++j) s += col[j];
@@ -161,7 +182,7 @@ void DepthAveraged::fluxes(const Grid& g, const Flow& flow, double t, const Coef
   for (int i = 0; i < nx; ++i) theta[i] = std::clamp(I[i] / g.h_column(i), 0.0, 1.0);
   col_c_.resize(static_cast<std::size_t>(nx) * N);
   for (int i = 0; i < nx; ++i) {
-    profile(k, &col_shear_[static_cast<std::size_t>(i) * N], g.h_column(i), theta[i],
+    profile(k, 3 * i, &col_shear_[static_cast<std::size_t>(i) * N], g.h_column(i), theta[i],
             std::span<double>(&col_c_[static_cast<std::size_t>(i) * N], N));
   }
   auto col = [&](int i, int j) { return col_c_[static_cast<std::size_t>(i) * N + j]; };
@@ -188,8 +209,8 @@ void DepthAveraged::fluxes(const Grid& g, const Flow& flow, double t, const Coef
       const double* left = &col_c_[static_cast<std::size_t>(f - 1) * N];
       const double* right = &col_c_[static_cast<std::size_t>(f) * N];
       if (k.limiter != Limiter::first_order) {
-        profile(k, face_shear.data(), h, theta[f - 1] + 0.5 * slope[f - 1], face_l_);
-        profile(k, face_shear.data(), h, theta[f] - 0.5 * slope[f], face_r_);
+        profile(k, 3 * f + 1, face_shear.data(), h, theta[f - 1] + 0.5 * slope[f - 1], face_l_);
+        profile(k, 3 * f + 2, face_shear.data(), h, theta[f] - 0.5 * slope[f], face_r_);
         left = face_l_.data();
         right = face_r_.data();
       }

@@ -38,8 +38,9 @@ namespace grainscale::continuum {
 class Model;
 
 /// (A2): given Λ at the sample points (dimensionless, increasing with z for S > 0) and the mean
-/// θ ∈ [0, 1] of c over the samples, fill c with the logistic profile of mean θ.
-void equilibrium_profile(std::span<const double> Lambda, double theta, std::span<double> c);
+/// θ ∈ [0, 1] of c over the samples, fill c with the logistic profile of mean θ. `mu` (optional):
+/// in, a starting guess for μ (used if inside the bracket); out, the μ found.
+void equilibrium_profile(std::span<const double> Lambda, double theta, std::span<double> c, double* mu = nullptr);
 
 class DepthAveraged {
  public:
@@ -79,13 +80,22 @@ class DepthAveraged {
   void prepare(const Grid& g, const Flow& flow, double t) const;
   /// Λ at the samples from γ̇ samples over depth h.
   void lambda(const Coefficients& k, const double* shear, double h, std::vector<double>& out) const;
-  void profile(const Coefficients& k, const double* shear, double h, double theta, std::span<double> c) const;
+  /// The profile of one slot: column i is 3 i, the face profiles of face f are 3 f + 1 (left) and
+  /// 3 f + 2 (right); each slot keeps its μ (Newton's start) and its Λ (while coefficients and flow
+  /// stay the same).
+  void profile(const Coefficients& k, int slot, const double* shear, double h, double theta, std::span<double> c) const;
 
   int nsub_, samples_;
   mutable bool prepared_ = false;
   mutable double prepared_time_ = 0;
   mutable FaceCoefficients fine_;         // on the (nx, N) grid: x-face volume fluxes and γ̇
   mutable std::vector<double> col_shear_; // γ̇ at (x_i, σ_j h̄_i), [i * N + j]
+  mutable long prepared_stamp_ = 0;
+  mutable std::vector<double> mu_;  // last μ per slot
+  mutable std::vector<double> lambda_cache_;
+  mutable std::vector<char> lambda_valid_;
+  mutable std::vector<double> lambda_key_ = {0, 0, 0};
+  mutable long lambda_stamp_ = -1;
   mutable std::vector<double> scratch_lambda_, col_c_, face_l_, face_r_, F_base_, F_pert_;
 };
 

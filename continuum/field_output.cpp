@@ -41,17 +41,26 @@ void write_continuum_h5(const std::string& path, const Model& model, const Surfa
   h5.dataset("/grid/z_centre", {nx, nz}, zc);
   h5.dataset("/grid/area", {nx, nz}, area);
 
-  std::vector<double> c, cov, chaff;
+  std::vector<double> c, cov, chaff, surface, depth;
   for (std::size_t n = 0; n < nt; ++n) {
+    const Grid& gn = record.grid(model, n);
     c.insert(c.end(), record.fields[n].begin(), record.fields[n].end());
-    const auto cv = observation.coverage(g, record.fields[n]);
+    const auto cv = observation.coverage(gn, record.fields[n]);
     cov.insert(cov.end(), cv.begin(), cv.end());
-    chaff.push_back(model.chaff(record.fields[n]));
+    chaff.push_back(gn.integrate(record.fields[n]));
+    surface.insert(surface.end(), gn.surface_nodes().begin(), gn.surface_nodes().end());
+    depth.insert(depth.end(), gn.column_depths().begin(), gn.column_depths().end());
   }
   h5.dataset("/time", {nt}, record.times);
   h5.dataset("/c", {nt, nx, nz}, c);
   h5.dataset("/coverage", {nt, nx}, cov);
   h5.dataset("/chaff", {nt}, chaff);
+  h5.attribute("/", "model_type", std::string(model.closure() == Closure::depth_averaged ? "depth_averaged" : "resolved"));
+  if (!record.grids.empty()) {
+    // Moving surface: the grid of every output time (cell area = dσ dx column_depth).
+    h5.dataset("/surface_height", {nt, nx + 1}, surface);
+    h5.dataset("/column_depth", {nt, nx}, depth);
+  }
 
   h5.group("/parameters");
   for (const auto& name : model.parameter_names()) h5.attribute("/parameters", name, model.parameter(name));
@@ -60,7 +69,10 @@ void write_continuum_h5(const std::string& path, const Model& model, const Surfa
 }
 
 std::vector<double> chaff_per_slice(const Model& model, const std::vector<double>& c, double w) {
-  const Grid& g = model.grid();
+  return chaff_per_slice(model.grid(), c, w);
+}
+
+std::vector<double> chaff_per_slice(const Grid& g, const std::vector<double>& c, double w) {
   const int slices = static_cast<int>(std::ceil(g.length() / w - 1e-9));
   std::vector<double> out(slices, 0.0);
   for (int i = 0; i < g.nx(); ++i) {
@@ -87,7 +99,7 @@ std::string slices_csv(const Model& model, const RunRecord& record, double w) {
   for (std::size_t n = 0; n < record.times.size(); ++n) {
     std::snprintf(buf, sizeof buf, "%.9g", record.times[n]);
     s += buf;
-    for (double v : chaff_per_slice(model, record.fields[n], w)) {
+    for (double v : chaff_per_slice(record.grid(model, n), record.fields[n], w)) {
       std::snprintf(buf, sizeof buf, ",%.9g", v);
       s += buf;
     }
@@ -108,7 +120,7 @@ std::string coverage_csv(const Model& model, const SurfaceCoverage& observation,
   for (std::size_t n = 0; n < record.times.size(); ++n) {
     std::snprintf(buf, sizeof buf, "%.9g", record.times[n]);
     s += buf;
-    for (double v : observation.coverage(g, record.fields[n])) {
+    for (double v : observation.coverage(record.grid(model, n), record.fields[n])) {
       std::snprintf(buf, sizeof buf, ",%.9g", v);
       s += buf;
     }

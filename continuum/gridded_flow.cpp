@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <limits>
 
 #include "dem/input_error.hpp"
 
@@ -205,6 +207,57 @@ double GriddedFlow::column_psi(int j, double sigma) const {
 double GriddedFlow::surface_height(double x) const {
   const auto [j, a] = bracket(x_, x);
   return (1 - a) * h_[j] + a * h_[j + 1];
+}
+
+double GriddedFlow::surface_integral(double x) const {
+  // Constant h_0 on [0, x_0], trapezoids between columns, constant h_last beyond.
+  if (x <= x_.front()) return h_.front() * x;
+  double area = h_.front() * x_.front();
+  for (std::size_t j = 0; j + 1 < x_.size(); ++j) {
+    if (x <= x_[j + 1]) {
+      const double hx = h_[j] + (h_[j + 1] - h_[j]) * (x - x_[j]) / (x_[j + 1] - x_[j]);
+      return area + 0.5 * (h_[j] + hx) * (x - x_[j]);
+    }
+    area += 0.5 * (h_[j] + h_[j + 1]) * (x_[j + 1] - x_[j]);
+  }
+  return area + h_.back() * (x - x_.back());
+}
+
+GriddedFlow GriddedFlow::with_surface_scaled(double factor) const {
+  std::vector<double> h = h_;
+  for (double& v : h) v *= factor;
+  return GriddedFlow(length_, x_, z_, u_, rate_, h);
+}
+
+std::vector<std::pair<int, double>> GriddedFlow::phase_frames(const std::string& path) {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (file < 0) throw InputError(path + ": cannot open as HDF5");
+  std::vector<std::pair<int, double>> out;
+  const hid_t frames = H5Gopen2(file, "/frames", H5P_DEFAULT);
+  const int count = frames >= 0 ? int_attribute(frames, "count", 0) : 0;
+  auto double_attribute = [](hid_t obj, const char* name) {
+    double v = std::numeric_limits<double>::quiet_NaN();
+    if (H5Aexists(obj, name) > 0) {
+      const hid_t a = H5Aopen(obj, name, H5P_DEFAULT);
+      H5Aread(a, H5T_NATIVE_DOUBLE, &v);
+      H5Aclose(a);
+    }
+    return v;
+  };
+  for (int n = 0; n < count; ++n) {
+    char name[16];
+    std::snprintf(name, sizeof name, "%06d", n);
+    const hid_t fr = H5Gopen2(frames, name, H5P_DEFAULT);
+    if (fr < 0) continue;
+    const double lo = double_attribute(fr, "phase_lo"), hi = double_attribute(fr, "phase_hi");
+    const int snapshots = int_attribute(fr, "snapshots", 1);
+    H5Gclose(fr);
+    if (std::isfinite(lo) && std::isfinite(hi) && snapshots > 0) out.emplace_back(n, 0.5 * (lo + hi));
+  }
+  if (frames >= 0) H5Gclose(frames);
+  H5Fclose(file);
+  return out;
 }
 
 double GriddedFlow::stream_function(double x, double z, double) const {

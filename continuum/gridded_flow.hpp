@@ -8,6 +8,7 @@
 // otherwise be a source or sink of bulk at the surface. Between data columns ψ is interpolated at
 // equal σ = z/h, and it tapers linearly to zero at the end walls x = 0 and x = L.
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "continuum/flow.hpp"
@@ -28,6 +29,16 @@ class GriddedFlow final : public Flow {
   bool steady() const override { return true; }
   /// h(x), linear between data columns, constant beyond the first and last.
   double surface_height(double x) const;
+  /// ∫₀ˣ h dx′ [m²] of that piecewise-linear surface (exact).
+  double surface_integral(double x) const;
+  /// The same fields under a surface scaled by `factor` (phase_resolved_flow.hpp equalises the bed
+  /// area of the phases this way).
+  GriddedFlow with_surface_scaled(double factor) const;
+  double length() const { return length_; }
+
+  /// Frames of a coarse-graining field file that are phase averages (finite `phase_lo`, `phase_hi`
+  /// and at least one snapshot): frame index and bin centre in cycles, in file order.
+  static std::vector<std::pair<int, double>> phase_frames(const std::string& file);
 
  private:
   double column_psi(int j, double sigma) const;  // (G1) on data column j at σ

@@ -16,9 +16,15 @@ ContinuumRunSummary run_continuum(const ContinuumSettings& s) {
 
   RunRecord record;
   record.times = output_times(s);
-  record.fields = simulate(model, c0, 0.0, record.times, s.integrator, s.stops);
+  std::vector<Grid> grids;
+  record.fields = simulate(model, c0, 0.0, record.times, s.integrator, s.stops, &grids);
   record.times.insert(record.times.begin(), 0.0);
-  record.fields.insert(record.fields.begin(), c0);
+  // The depth-averaged closure starts from the equilibrium profile of the initial inventories.
+  record.fields.insert(record.fields.begin(), model.concentration(0.0, model.state(0.0, c0)));
+  if (model.moving_surface()) {
+    grids.insert(grids.begin(), model.grid());
+    record.grids = std::move(grids);
+  }
 
   std::filesystem::create_directories(s.output_folder);
   ContinuumRunSummary summary;
@@ -29,8 +35,8 @@ ContinuumRunSummary run_continuum(const ContinuumSettings& s) {
   dem::write_file_atomically(summary.slices_file, slices_csv(model, record, s.slice_width));
   dem::write_file_atomically(summary.coverage_file, coverage_csv(model, camera, record));
 
-  summary.chaff_initial = model.chaff(record.fields.front());
-  summary.chaff_final = model.chaff(record.fields.back());
+  summary.chaff_initial = record.grid(model, 0).integrate(record.fields.front());
+  summary.chaff_final = record.grid(model, record.times.size() - 1).integrate(record.fields.back());
   summary.c_min = 1;
   summary.c_max = 0;
   for (const auto& c : record.fields) {

@@ -5,7 +5,9 @@
 #include <functional>
 
 #include "continuum/analytic_flows.hpp"
+#include "continuum/depth_averaged.hpp"
 #include "continuum/gridded_flow.hpp"
+#include "continuum/phase_resolved_flow.hpp"
 #include "continuum/term_registry.hpp"
 #include "dem/input_error.hpp"
 #include "dem/yaml_map.hpp"
@@ -33,8 +35,21 @@ void read_grid(YamlMap m, ContinuumSettings& s) {
 }
 
 void read_flow(YamlMap m, ContinuumSettings& s) {
-  s.flow.type = m.choice("type", {"cellular", "uniform_shear", "file"});
-  if (s.flow.type == "cellular") {
+  s.flow.type = m.choice("type", {"cellular", "uniform_shear", "file", "sloshing"});
+  if (s.flow.type == "sloshing") {
+    if (s.surface.empty() || std::adjacent_find(s.surface.begin(), s.surface.end(), std::not_equal_to<>()) != s.surface.end()) {
+      throw InputError(m.where("type") + ": flow type 'sloshing' needs a flat bed at rest: give grid.depth");
+    }
+    s.flow.amplitude = m.number("amplitude", {0, 0.9 * s.surface.front(), true, true});
+    s.flow.period = m.number("period", Range::positive());
+    s.flow.mode = static_cast<int>(m.integer_or("mode", 1, 1, 1000));
+    s.flow.exponent = m.number_or("exponent", 2.0, {1, 10, true, true});
+    if (s.flow.exponent > 1 && s.flow.exponent < 2) {
+      throw InputError(m.where("exponent") + ": must be 1 or in [2, 10] (the shear rate σ^(p−2) is singular between)");
+    }
+    s.flow.cell = m.number_or("cell", 0.0);
+    s.flow.background_shear = m.number_or("background_shear", 0.0, Range::non_negative());
+  } else if (s.flow.type == "cellular") {
     s.flow.amplitude = m.number("amplitude");
     s.flow.background_shear = m.number_or("background_shear", 0.0, Range::non_negative());
   } else if (s.flow.type == "uniform_shear") {
@@ -42,7 +57,16 @@ void read_flow(YamlMap m, ContinuumSettings& s) {
   } else {
     s.flow.file = resolve_beside(s.source_file, m.string("file"));
     if (!std::filesystem::exists(s.flow.file)) throw InputError(m.where("file") + ": cannot find '" + s.flow.file + "'");
-    s.flow.frame = static_cast<int>(m.integer_or("frame", -1, -1000000, 1000000));  // coarse-grained files: which frame
+    if (m.has("period")) {
+      // Phase-resolved: every phase-averaged frame, interpolated in phase.
+      if (m.has("frame")) throw InputError(m.where("frame") + ": give either 'frame' (one field) or 'period' (all phases), not both");
+      s.flow.phase_resolved = true;
+      s.flow.period = m.number("period", Range::positive());
+      s.flow.t0 = m.number_or("t0", 0.0);
+      s.flow.moving_surface = m.choice_or("surface", "moving", {"moving", "fixed"}) == "moving";
+    } else {
+      s.flow.frame = static_cast<int>(m.integer_or("frame", -1, -1000000, 1000000));  // coarse-grained files: which frame
+    }
   }
   m.finish();
 }
@@ -81,6 +105,11 @@ ContinuumSettings load_continuum_settings(const std::string& file) {
   YamlMap root = YamlMap::load_file(file);
   ContinuumSettings s;
   s.source_file = file;
+  if (auto m = root.optional_map("model")) {
+    const std::string type = m->choice_or("type", "resolved", {"resolved", "depth_averaged"});
+    s.closure = type == "depth_averaged" ? Closure::depth_averaged : Closure::resolved;
+    m->finish();
+  }
   read_grid(root.map("grid"), s);
   read_flow(root.map("flow"), s);
   {
@@ -110,8 +139,17 @@ ContinuumSettings load_continuum_settings(const std::string& file) {
   root.finish();
   if (s.surface.empty()) {
     if (s.flow.type != "file") throw InputError(file + ": key 'grid': give 'depth' or 'surface' (or a flow file)");
-    const GriddedFlow flow = GriddedFlow::load(s.flow.file, s.length, s.flow.frame);
-    for (int f = 0; f <= s.nx; ++f) s.surface.push_back(flow.surface_height(s.length * f / s.nx));
+    if (s.flow.phase_resolved) {
+      const PhaseResolvedFlow flow =
+          PhaseResolvedFlow::load(s.flow.file, s.length, s.flow.period, s.flow.t0, s.flow.moving_surface);
+      for (int f = 0; f <= s.nx; ++f) s.surface.push_back(flow.surface_at(s.length * f / s.nx, 0.0));
+    } else {
+      const GriddedFlow flow = GriddedFlow::load(s.flow.file, s.length, s.flow.frame);
+      for (int f = 0; f <= s.nx; ++f) s.surface.push_back(flow.surface_height(s.length * f / s.nx));
+    }
+  } else if (s.flow.type == "file" && s.flow.phase_resolved && s.flow.moving_surface) {
+    throw InputError(file + ": key 'grid': with a moving surface from phase-resolved fields the surface comes from the file; "
+                     "leave out 'depth' and 'surface' (or set flow.surface: fixed)");
   }
   (void)build_model(s);  // term names, parameters and the flow file are checked now, not mid-run
   return s;
@@ -119,7 +157,23 @@ ContinuumSettings load_continuum_settings(const std::string& file) {
 
 std::shared_ptr<const Flow> build_flow(const ContinuumSettings& s, const Grid& grid) {
   if (s.flow.type == "uniform_shear") return std::make_shared<UniformShear>(s.flow.shear_rate);
+  if (s.flow.type == "file" && s.flow.phase_resolved) {
+    return std::make_shared<PhaseResolvedFlow>(
+        PhaseResolvedFlow::load(s.flow.file, s.length, s.flow.period, s.flow.t0, s.flow.moving_surface));
+  }
   if (s.flow.type == "file") return std::make_shared<GriddedFlow>(GriddedFlow::load(s.flow.file, s.length, s.flow.frame));
+  if (s.flow.type == "sloshing") {
+    SloshingFlow::Shape shape;
+    shape.length = s.length;
+    shape.depth = s.surface.front();
+    shape.amplitude = s.flow.amplitude;
+    shape.mode = s.flow.mode;
+    shape.period = s.flow.period;
+    shape.exponent = s.flow.exponent;
+    shape.cell = s.flow.cell;
+    shape.background_shear = s.flow.background_shear;
+    return std::make_shared<SloshingFlow>(shape);
+  }
   // The cell's ψ vanishes on the grid's own (piecewise-linear) surface.
   std::function<double(double)> h = [grid](double x) {
     const double u = std::clamp(x / grid.dx(), 0.0, static_cast<double>(grid.nx()));
@@ -131,8 +185,19 @@ std::shared_ptr<const Flow> build_flow(const ContinuumSettings& s, const Grid& g
 
 Model build_model(const ContinuumSettings& s) {
   Grid grid(s.length, s.nx, s.nz, s.surface);
-  Model model(grid, build_flow(s, grid));
+  auto flow = build_flow(s, grid);
+  if (flow->moving_surface()) {
+    // The grid starts on the flow's own surface at t = 0.
+    std::vector<double> nodes;
+    for (int f = 0; f <= s.nx; ++f) nodes.push_back(flow->surface_height(grid.x_face(f), 0.0));
+    grid = Grid(s.length, s.nx, s.nz, nodes);
+  }
+  Model model(grid, flow, s.closure);
   for (const auto& [name, node] : s.terms) {
+    if (s.closure == Closure::depth_averaged && !DepthAveraged::supports(name)) {
+      throw InputError(s.source_file + ": key 'terms." + name + "': model type depth_averaged has no form of this term (allowed: " +
+                       DepthAveraged::supported_terms() + ")");
+    }
     YamlMap params(node, s.source_file, "terms." + name);
     model.add_term(make_term(name, params));
   }

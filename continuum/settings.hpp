@@ -15,12 +15,21 @@
 namespace grainscale::continuum {
 
 struct FlowSettings {
-  std::string type = "cellular";  // cellular | uniform_shear | file
+  std::string type = "cellular";  // cellular | uniform_shear | file | sloshing
   double amplitude = 0;           // cellular: ψ amplitude [m²/s]
   double background_shear = 0;    // cellular: γ̇ added everywhere [1/s]
   double shear_rate = 0;          // uniform_shear [1/s]
   std::string file;               // file: HDF5 fields (gridded_flow.hpp), resolved beside the YAML
   int frame = -1;                 // file from `grainscale cg`: frame to use (negative: from the end)
+  // file with `period`: phase-resolved fields (phase_resolved_flow.hpp), phase 0 at t0
+  bool phase_resolved = false;
+  double t0 = 0;                  // [s]
+  bool moving_surface = true;     // surface: moving | fixed
+  // sloshing (analytic_flows.hpp SloshingFlow; depth = grid.depth): moving free surface
+  double period = 0;              // [s] (also the motion period of phase-resolved fields)
+  int mode = 1;
+  double exponent = 2;
+  double cell = 0;                // convection-cell amplitude [m²/s]
 };
 
 struct InitialSettings {
@@ -32,6 +41,7 @@ struct InitialSettings {
 
 struct ContinuumSettings {
   std::string source_file;
+  Closure closure = Closure::resolved;  // model.type: resolved | depth_averaged
   double length = 0;               // [m]
   int nx = 0, nz = 0;
   std::vector<double> surface;     // h at the nx + 1 column faces [m] (from `depth` or `surface`)

@@ -132,7 +132,12 @@ TEST_CASE("Bad continuum input throws InputError naming file and key", "[continu
                            Bad{"depth: 0.1}", "depth: 0.1, surface: [1]}", "depth"},
                            Bad{"type: cellular, amplitude: 5.0e-4, background_shear: 0.05", "type: file, file: missing.h5", "missing.h5"},
                            Bad{"background_shear: 0.05", "background_shear: 0.05, amplitud: 1", "flow.amplitud"},
-                           Bad{"kappa: 150", "kapa: 150", "observation"});
+                           Bad{"kappa: 150", "kapa: 150", "observation"},
+                           Bad{"grid:", "model: {type: two_layer}\ngrid:", "model.type"},
+                           Bad{"grid:", "model: {type: depth_averaged, n: 3}\ngrid:", "model.n"},
+                           Bad{"type: cellular, amplitude: 5.0e-4, background_shear: 0.05", "type: sloshing, amplitude: 0.2, period: 2", "flow.amplitude"},
+                           Bad{"type: cellular, amplitude: 5.0e-4, background_shear: 0.05", "type: sloshing, amplitude: 0.01", "flow.period"},
+                           Bad{"type: cellular, amplitude: 5.0e-4, background_shear: 0.05", "type: sloshing, amplitude: 0.01, period: 2, exponent: 1.5", "flow.exponent"});
   const fs::path dir = scratch("bad");
   const std::string file = write(dir, replaced(kGood, bad.from, bad.to));
   INFO("replacing '" << bad.from << "' by '" << bad.to << "'");
@@ -143,6 +148,57 @@ TEST_CASE("Bad continuum input throws InputError naming file and key", "[continu
     const std::string what = e.what();
     INFO(what);
     CHECK(what.find(bad.expect) != std::string::npos);
+    CHECK(what.find("run.yaml") != std::string::npos);
+  }
+}
+
+TEST_CASE("A YAML run with a sloshing surface writes the surface per output and conserves chaff", "[continuum][driver][moving]") {
+  const fs::path dir = scratch("sloshing");
+  std::string text = replaced(kGood, "type: cellular, amplitude: 5.0e-4, background_shear: 0.05",
+                              "type: sloshing, amplitude: 0.01, period: 4.0, cell: 3.0e-4, background_shear: 0.05");
+  text = replaced(text, "end: 120, outputs: 4, stops: [45]", "end: 13, outputs: 4");  // t = 13 s: h ≠ H
+  const ContinuumRunSummary r = run_continuum(load_continuum_settings(write(dir, text)));
+  CHECK(std::abs(r.chaff_final - r.chaff_initial) < 1e-12 * r.chaff_initial);
+  CHECK(r.c_min > -1e-6);
+  CHECK(r.c_max < 1 + 1e-6);
+  const hid_t f = H5Fopen(r.h5_file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  REQUIRE(f >= 0);
+  std::vector<double> h(5 * 25);
+  const hid_t set = H5Dopen2(f, "/surface_height", H5P_DEFAULT);
+  REQUIRE(set >= 0);
+  H5Dread(set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, h.data());
+  H5Dclose(set);
+  H5Fclose(f);
+  CHECK(h[0] == Approx(0.1));                                          // t = 0, x = 0: at rest
+  CHECK(h[4 * 25] == Approx(0.1 + 0.01 * std::sin(2 * std::numbers::pi * 13 / 4.0)));  // t = 13 s, x = 0
+  // The slices still add up to the chaff on the moving grid.
+  const auto last = csv_row(r.slices_file, 5);
+  double sum = 0;
+  for (std::size_t j = 1; j < last.size(); ++j) sum += std::stod(last[j]);
+  CHECK(sum == Approx(r.chaff_final).epsilon(1e-8));
+}
+
+TEST_CASE("A YAML run of the depth-averaged model", "[continuum][driver][depth_averaged]") {
+  const fs::path dir = scratch("depth_averaged");
+  const std::string text = "model: {type: depth_averaged}\n" + std::string(kGood);
+  const ContinuumSettings s = load_continuum_settings(write(dir, text));
+  CHECK(s.closure == Closure::depth_averaged);
+  const ContinuumRunSummary r = run_continuum(s);
+  CHECK(r.chaff_initial == Approx(0.3 * 0.5 * 0.4 * 0.1).epsilon(1e-12));
+  CHECK(std::abs(r.chaff_final - r.chaff_initial) < 1e-12 * r.chaff_initial);
+  // The profile puts the chaff on top at once: coverage at t = 0 (the equilibrium of the initial
+  // inventory) is already large.
+  CHECK(std::stod(csv_row(r.coverage_file, 1)[5]) > 0.05);
+  // A term without a depth-averaged form is refused, naming the file and the term.
+  const std::string bad = replaced(text, "  background_diffusion: {D0: 1.0e-6}\n",
+                                   "  background_diffusion: {D0: 1.0e-6}\n  surface_drift: {U: 1.0e-4, thickness: 0.01}\n");
+  try {
+    (void)load_continuum_settings(write(dir, bad));
+    FAIL("no InputError");
+  } catch (const grainscale::InputError& e) {
+    const std::string what = e.what();
+    INFO(what);
+    CHECK(what.find("terms.surface_drift") != std::string::npos);
     CHECK(what.find("run.yaml") != std::string::npos);
   }
 }
