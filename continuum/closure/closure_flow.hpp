@@ -36,9 +36,9 @@ class ClosureFlow final : public Flow {
   double shear_rate(double x, double z, double t) const override;
   /// Steady when the record holds one sample (a cycle average).
   bool steady() const override { return record_->samples().size() == 1; }
-  bool moving_surface() const { return moving_; }
+  bool moving_surface() const override { return moving_; }
   /// h(x, t) of the closure, linear between cell centres.
-  double surface_height(double x, double t) const;
+  double surface_height(double x, double t) const override;
   /// u_s(x, t), linear between faces.
   double surface_speed(double x, double t) const;
 
