@@ -128,6 +128,9 @@ void Model::rhs(double t, std::span<const double> c, std::span<double> dcdt) con
 }
 
 double Model::max_rate(double t) const {
+  if (closure_ == Closure::depth_averaged) {
+    return depth_averaged_->max_rate(surface_grid(t), *flow_, t, DepthAveraged::coefficients(*this));
+  }
   update_faces(t);
   std::vector<double> rate(size(), 0.0);
   const TermContext ctx{current_, faces_};
@@ -253,10 +256,7 @@ void Model::state_rhs(double t, std::span<const double> y, std::span<double> dyd
 }
 
 double Model::state_max_rate(double t, std::span<const double> y) const {
-  if (closure_ == Closure::depth_averaged) {
-    return depth_averaged_->max_rate(surface_grid(t), *flow_, t, DepthAveraged::coefficients(*this));
-  }
-  if (flow_->moving_surface()) set_geometry(t, y);
+  if (flow_->moving_surface() && closure_ == Closure::resolved) set_geometry(t, y);
   return max_rate(t);
 }
 

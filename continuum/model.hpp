@@ -71,7 +71,8 @@ class Model {
   void face_fluxes(double t, std::span<const double> c, FaceFluxes& out) const;
   /// dc/dt from (M1) (fixed surface).
   void rhs(double t, std::span<const double> c, std::span<double> dcdt) const;
-  /// Largest Σ_terms rate bound over the cells [1/s]; an explicit step needs dt · this ≤ CFL.
+  /// Largest Σ_terms rate bound over the cells [1/s]; an explicit step needs dt · this ≤ CFL (for
+  /// the depth-averaged closure: its own bound).
   double max_rate(double t) const;
   /// Half-width of the Jacobian band over all terms (index of c).
   int jacobian_half_bandwidth() const;
