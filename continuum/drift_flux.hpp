@@ -33,11 +33,23 @@ struct DriftField {
   std::function<double(int, int)> s_face_q;
 };
 
+/// q on every face, evaluated once and kept while the term's parameters, the grid and the face
+/// shear rates stay the same (a fit runs thousands of steps with the same values).
+class DriftCache {
+ public:
+  /// q per face for `drift`; `parameters` are the term's current values.
+  const DriftCache& update(const TermContext& ctx, const DriftField& drift, const std::vector<double>& parameters);
+  std::vector<double> x, s;  // per x-face and σ-face (0 where the field has no drift)
+
+ private:
+  std::vector<double> key_;
+};
+
 /// Add the drift fluxes; `states` is scratch space for the reconstruction.
-void add_drift_fluxes(const TermContext& ctx, std::span<const double> c, const DriftField& drift, Mobility m,
+void add_drift_fluxes(const TermContext& ctx, std::span<const double> c, const DriftCache& q, Mobility m,
                       Limiter limiter, FaceStates& states, FaceFluxes& out);
 /// Add Σ_faces |q| / area per cell.
-void add_drift_rate_bound(const TermContext& ctx, const DriftField& drift, std::span<double> rate);
+void add_drift_rate_bound(const TermContext& ctx, const DriftCache& q, std::span<double> rate);
 /// Band half-width: MUSCL reaches two cells (2 nz in index across x-faces, 2 within a column).
 int drift_half_bandwidth(const Grid& g, const DriftField& drift, Limiter limiter);
 

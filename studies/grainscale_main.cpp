@@ -21,6 +21,7 @@
 #include "studies/calibrate_command.hpp"
 #include "studies/cg_plots.hpp"
 #include "studies/fit_command.hpp"
+#include "studies/loop_command.hpp"
 #include "studies/hold_command.hpp"
 #include "studies/openmp_wait_policy.hpp"
 #include "studies/shape_picture.hpp"
@@ -64,6 +65,11 @@ commands:
         correlations, chi2/dof), report.md and PNGs of data, model and residual;
         exit status 4 if it did not converge or left a parameter unconstrained
         (settings: docs/plots.md)
+  loop SETTINGS.yaml [--out DIR]
+        close the loop with measured data: fit the model (a `fit` settings file),
+        diagnose the residual (symmetry, surface/bulk, harmonics, walls, c, whiteness),
+        rank candidate effects by blocked cross-validation and BIC, add the winner
+        if justified; loop.yaml, report.md (error before/after) and PNGs (docs/loop.md)
   calibrate STUDY.yaml [--out DIR] [--threads N]
         calibrate sliding and/or rolling friction against measured angles of
         repose with the report's rig (pipe lifted off a tray); writes runs.csv,
@@ -293,6 +299,7 @@ int main(int argc, char** argv) {
     if (cmd == "predict") return run_predict(a);
     if (cmd == "hold") return studies::hold_command(a.positional, a.out);
     if (cmd == "fit") return studies::fit_command(a.positional, a.out);
+    if (cmd == "loop") return studies::loop_command(a.positional, a.out);
     if (cmd == "calibrate") return studies::calibrate_main(a.positional, a.out, a.threads);
     if (cmd == "shape") return run_shape(a);
     if (cmd == "version") {

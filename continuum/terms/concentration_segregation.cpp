@@ -16,15 +16,21 @@ DriftField ConcentrationSegregation::field(const TermContext& ctx) const {
 
 void ConcentrationSegregation::add_fluxes(const TermContext& ctx, std::span<const double> c, FaceFluxes& out) const {
   if (parameters().get("S") == 0) return;
-  add_drift_fluxes(ctx, c, field(ctx), Mobility::dilute, limiter_, states_, out);
+  add_drift_fluxes(ctx, c, faces_q(ctx), Mobility::dilute, limiter_, states_, out);
 }
 
 void ConcentrationSegregation::add_rate_bound(const TermContext& ctx, std::span<double> rate) const {
-  add_drift_rate_bound(ctx, field(ctx), rate);
+  add_drift_rate_bound(ctx, faces_q(ctx), rate);
 }
 
 int ConcentrationSegregation::jacobian_half_bandwidth(const Grid& g) const {
   return drift_half_bandwidth(g, {{}, [](int, int) { return 1.0; }}, limiter_);
+}
+
+const DriftCache& ConcentrationSegregation::faces_q(const TermContext& ctx) const {
+  std::vector<double> values;
+  for (const auto& p : parameters().all()) values.push_back(p.value);
+  return cache_.update(ctx, field(ctx), values);
 }
 
 }  // namespace grainscale::continuum

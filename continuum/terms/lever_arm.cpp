@@ -33,13 +33,19 @@ DriftField LeverArm::field(const TermContext& ctx) const {
 
 void LeverArm::add_fluxes(const TermContext& ctx, std::span<const double> c, FaceFluxes& out) const {
   if (parameters().get("S") == 0 || parameters().get("omega2") == 0) return;
-  add_drift_fluxes(ctx, c, field(ctx), Mobility::symmetric, limiter_, states_, out);
+  add_drift_fluxes(ctx, c, faces_q(ctx), Mobility::symmetric, limiter_, states_, out);
 }
 
 void LeverArm::add_rate_bound(const TermContext& ctx, std::span<double> rate) const {
-  add_drift_rate_bound(ctx, field(ctx), rate);
+  add_drift_rate_bound(ctx, faces_q(ctx), rate);
 }
 
 int LeverArm::jacobian_half_bandwidth(const Grid& g) const { return drift_half_bandwidth(g, {[](int, int) { return 1.0; }, {}}, limiter_); }
+
+const DriftCache& LeverArm::faces_q(const TermContext& ctx) const {
+  std::vector<double> values;
+  for (const auto& p : parameters().all()) values.push_back(p.value);
+  return cache_.update(ctx, field(ctx), values);
+}
 
 }  // namespace grainscale::continuum

@@ -21,8 +21,10 @@ class PauseCreep final : public FluxTerm {
 
  private:
   DriftField field(const TermContext& ctx) const;
+  const DriftCache& faces_q(const TermContext& ctx) const;
   Limiter limiter_;
   mutable FaceStates states_;
+  mutable DriftCache cache_;
 };
 
 }  // namespace grainscale::continuum

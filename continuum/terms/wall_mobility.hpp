@@ -19,8 +19,10 @@ class WallMobility final : public FluxTerm {
 
  private:
   DriftField field(const TermContext& ctx) const;
+  const DriftCache& faces_q(const TermContext& ctx) const;
   Limiter limiter_;
   mutable FaceStates states_;
+  mutable DriftCache cache_;
 };
 
 }  // namespace grainscale::continuum
