@@ -63,7 +63,8 @@ int residual_callback(const gsl_vector* x, void* params, gsl_vector* f) {
 
 std::vector<double> fit_residuals(const Model& model, const SurfaceCoverage& observation, const FitData& d,
                                   const IntegratorSettings& integrator) {
-  const auto fields = simulate(model, d.c0, d.t0, d.times, integrator);
+  std::vector<Grid> grids;  // the grid of each time (it moves with a moving surface)
+  const auto fields = simulate(model, d.c0, d.t0, d.times, integrator, {}, &grids);
   const Grid& g = model.grid();
   std::vector<double> r;
   r.reserve(residual_count(d, g));
@@ -72,7 +73,7 @@ std::vector<double> fit_residuals(const Model& model, const SurfaceCoverage& obs
       for (std::size_t m = 0; m < g.cells(); ++m) r.push_back((fields[n][m] - d.fields[n][m]) / d.field_sigma);
     }
     if (!d.coverage.empty()) {
-      const auto cov = observation.coverage(g, fields[n]);
+      const auto cov = observation.coverage(grids[n], fields[n]);
       for (int i = 0; i < g.nx(); ++i) r.push_back((cov[i] - d.coverage[n][i]) / d.coverage_sigma);
     }
   }
