@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
 #include "continuum/model.hpp"
 #include "continuum/terms/advection.hpp"
@@ -88,25 +89,62 @@ bool DepthAveraged::supports(const std::string& name) {
 
 std::string DepthAveraged::supported_terms() { return "advection, segregation, shear_diffusion, background_diffusion"; }
 
-DepthAveraged::DepthAveraged(const Grid& grid)
-    : nsub_(std::max(1, (kMinSamples + grid.nz() - 1) / grid.nz())),
-      samples_(grid.nz() * nsub_),
-      mu_(3 * static_cast<std::size_t>(grid.nx() + 1), std::numeric_limits<double>::quiet_NaN()) {}
+struct DepthAveraged::Cache {
+  bool prepared = false;
+  double time = 0;
+  long stamp = 0;
+  FaceCoefficients fine;          // on the (nx, N) grid: x-face volume fluxes and γ̇
+  std::vector<double> col_shear;  // γ̇ at (x_i, σ_j h̄_i), [i * N + j]
+  std::vector<double> mu;         // last μ per slot
+  std::vector<double> lambda;     // Λ per slot [slot * N + j]
+  std::vector<char> lambda_valid;
+  double key[3] = {0, 0, 0};      // coefficients Λ was computed with
+  long lambda_stamp = -1;
+};
 
-void DepthAveraged::prepare(const Grid& g, const Flow& flow, double t) const {
-  if (prepared_ && (flow.steady() || t == prepared_time_)) return;
+DepthAveraged::DepthAveraged(const Grid& grid)
+    : nx_(grid.nx()), nsub_(std::max(1, (kMinSamples + grid.nz() - 1) / grid.nz())), samples_(grid.nz() * nsub_) {
+  caches_.resize(1);
+}
+
+DepthAveraged::~DepthAveraged() = default;
+
+void DepthAveraged::set_cycle_average(double period, int phases) {
+  if (phases < 0 || (phases > 0 && !(period > 0))) throw std::invalid_argument("cycle average: need period > 0, phases >= 0");
+  cycle_period_ = period;
+  cycle_phases_ = phases;
+  caches_.resize(1 + static_cast<std::size_t>(phases));
+}
+
+DepthAveraged::Cache& DepthAveraged::cache(std::size_t j) const {
+  if (!caches_[j]) {
+    caches_[j] = std::make_unique<Cache>();
+    caches_[j]->mu.assign(3 * static_cast<std::size_t>(nx_ + 1), std::numeric_limits<double>::quiet_NaN());
+  }
+  return *caches_[j];
+}
+
+Grid DepthAveraged::grid_at(const Grid& g, const Flow& flow, double t) {
+  if (!flow.moving_surface()) return g;
+  std::vector<double> h(static_cast<std::size_t>(g.nx()) + 1);
+  for (int f = 0; f <= g.nx(); ++f) h[f] = flow.surface_height(g.x_face(f), t);
+  return Grid(g.length(), g.nx(), g.nz(), h);
+}
+
+void DepthAveraged::prepare(Cache& c, const Grid& g, const Flow& flow, double t) const {
+  if (c.prepared && (flow.steady() || t == c.time)) return;
   const int N = samples_;
   const Grid fine(g.length(), g.nx(), N, g.surface_nodes(), g.column_depths());
-  fine_.update(fine, flow, t);
-  col_shear_.resize(static_cast<std::size_t>(g.nx()) * N);
+  c.fine.update(fine, flow, t);
+  c.col_shear.resize(static_cast<std::size_t>(g.nx()) * N);
   for (int i = 0; i < g.nx(); ++i) {
     for (int j = 0; j < N; ++j) {
-      col_shear_[static_cast<std::size_t>(i) * N + j] = flow.shear_rate(g.x_centre(i), (j + 0.5) / N * g.h_column(i), t);
+      c.col_shear[static_cast<std::size_t>(i) * N + j] = flow.shear_rate(g.x_centre(i), (j + 0.5) / N * g.h_column(i), t);
     }
   }
-  prepared_ = true;
-  prepared_time_ = t;
-  ++prepared_stamp_;
+  c.prepared = true;
+  c.time = t;
+  ++c.stamp;
 }
 
 void DepthAveraged::lambda(const Coefficients& k, const double* shear, double h, std::vector<double>& out) const {
@@ -124,25 +162,27 @@ void DepthAveraged::lambda(const Coefficients& k, const double* shear, double h,
   }
 }
 
-void DepthAveraged::profile(const Coefficients& k, int slot, const double* shear, double h, double theta,
-                            std::span<double> c) const {
+void DepthAveraged::profile(Cache& cache, const Coefficients& k, int slot, const double* shear, double h,
+                            double theta, std::span<double> c) const {
   // Λ depends on the coefficients and the flow, not on the state: cached per slot.
   const std::size_t N = samples_;
-  if (lambda_valid_.size() != mu_.size() || k.S != lambda_key_[0] || k.per_shear != lambda_key_[1] ||
-      k.D0 != lambda_key_[2] || prepared_stamp_ != lambda_stamp_) {
-    lambda_valid_.assign(mu_.size(), 0);
-    lambda_cache_.resize(mu_.size() * N);
-    lambda_key_ = {k.S, k.per_shear, k.D0};
-    lambda_stamp_ = prepared_stamp_;
+  if (cache.lambda_valid.size() != cache.mu.size() || k.S != cache.key[0] || k.per_shear != cache.key[1] ||
+      k.D0 != cache.key[2] || cache.stamp != cache.lambda_stamp) {
+    cache.lambda_valid.assign(cache.mu.size(), 0);
+    cache.lambda.resize(cache.mu.size() * N);
+    cache.key[0] = k.S;
+    cache.key[1] = k.per_shear;
+    cache.key[2] = k.D0;
+    cache.lambda_stamp = cache.stamp;
   }
-  const auto cache = static_cast<std::size_t>(slot);
-  double* Lambda = &lambda_cache_[cache * N];
-  if (!lambda_valid_[cache]) {
+  const auto s = static_cast<std::size_t>(slot);
+  double* Lambda = &cache.lambda[s * N];
+  if (!cache.lambda_valid[s]) {
     lambda(k, shear, h, scratch_lambda_);
     std::copy(scratch_lambda_.begin(), scratch_lambda_.end(), Lambda);
-    lambda_valid_[cache] = 1;
+    cache.lambda_valid[s] = 1;
   }
-  equilibrium_profile(std::span<const double>(Lambda, N), std::clamp(theta, 0.0, 1.0), c, &mu_[cache]);
+  equilibrium_profile(std::span<const double>(Lambda, N), std::clamp(theta, 0.0, 1.0), c, &cache.mu[s]);
 }
 
 std::vector<double> DepthAveraged::inventory(const Grid& g, std::span<const double> c) const {
@@ -157,11 +197,12 @@ std::vector<double> DepthAveraged::inventory(const Grid& g, std::span<const doub
 
 std::vector<double> DepthAveraged::concentration(const Grid& g, const Flow& flow, double t, const Coefficients& k,
                                                  std::span<const double> I) const {
-  prepare(g, flow, t);
+  Cache& cc = cache(0);
+  prepare(cc, g, flow, t);
   const int N = samples_;
   std::vector<double> c(g.cells()), col(N);
   for (int i = 0; i < g.nx(); ++i) {
-    profile(k, 3 * i, &col_shear_[static_cast<std::size_t>(i) * N], g.h_column(i), I[i] / g.h_column(i), col);
+    profile(cc, k, 3 * i, &cc.col_shear[static_cast<std::size_t>(i) * N], g.h_column(i), I[i] / g.h_column(i), col);
     for (int kk = 0; kk < g.nz(); ++kk) {
       double s = 0;
       for (int j = kk * nsub_; j < (kk + 1) * nsub_; ++j) s += col[j];
@@ -173,7 +214,22 @@ std::vector<double> DepthAveraged::concentration(const Grid& g, const Flow& flow
 
 void DepthAveraged::fluxes(const Grid& g, const Flow& flow, double t, const Coefficients& k, std::span<const double> I,
                            std::vector<double>& F) const {
-  prepare(g, flow, t);
+  if (cycle_phases_ == 0) {
+    instantaneous_fluxes(cache(0), g, flow, t, k, I, F);
+    return;
+  }
+  // (A3): the average over the phases of the cycle at fixed I; independent of t.
+  F.assign(static_cast<std::size_t>(g.nx()) + 1, 0.0);
+  for (int p = 0; p < cycle_phases_; ++p) {
+    const double tp = (p + 0.5) / cycle_phases_ * cycle_period_;
+    instantaneous_fluxes(cache(1 + p), grid_at(g, flow, tp), flow, tp, k, I, F_phase_);
+    for (std::size_t f = 0; f < F.size(); ++f) F[f] += F_phase_[f] / cycle_phases_;
+  }
+}
+
+void DepthAveraged::instantaneous_fluxes(Cache& cc, const Grid& g, const Flow& flow, double t, const Coefficients& k,
+                                         std::span<const double> I, std::vector<double>& F) const {
+  prepare(cc, g, flow, t);
   const int nx = g.nx(), N = samples_;
   const double dx = g.dx(), ds = 1.0 / N;
   F.assign(static_cast<std::size_t>(nx) + 1, 0.0);
@@ -182,7 +238,7 @@ void DepthAveraged::fluxes(const Grid& g, const Flow& flow, double t, const Coef
   for (int i = 0; i < nx; ++i) theta[i] = std::clamp(I[i] / g.h_column(i), 0.0, 1.0);
   col_c_.resize(static_cast<std::size_t>(nx) * N);
   for (int i = 0; i < nx; ++i) {
-    profile(k, 3 * i, &col_shear_[static_cast<std::size_t>(i) * N], g.h_column(i), theta[i],
+    profile(cc, k, 3 * i, &cc.col_shear[static_cast<std::size_t>(i) * N], g.h_column(i), theta[i],
             std::span<double>(&col_c_[static_cast<std::size_t>(i) * N], N));
   }
   auto col = [&](int i, int j) { return col_c_[static_cast<std::size_t>(i) * N + j]; };
@@ -203,19 +259,19 @@ void DepthAveraged::fluxes(const Grid& g, const Flow& flow, double t, const Coef
   const Grid fine(g.length(), nx, N, g.surface_nodes(), g.column_depths());
   for (int f = 1; f < nx; ++f) {
     const double h = g.h_node(f), hx = g.slope_node(f);
-    for (int j = 0; j < N; ++j) face_shear[j] = fine_.shear_x[x_face(fine, f, j)];
+    for (int j = 0; j < N; ++j) face_shear[j] = cc.fine.shear_x[x_face(fine, f, j)];
     double flux = 0;
     if (k.velocity_scale != 0) {
       const double* left = &col_c_[static_cast<std::size_t>(f - 1) * N];
       const double* right = &col_c_[static_cast<std::size_t>(f) * N];
       if (k.limiter != Limiter::first_order) {
-        profile(k, 3 * f + 1, face_shear.data(), h, theta[f - 1] + 0.5 * slope[f - 1], face_l_);
-        profile(k, 3 * f + 2, face_shear.data(), h, theta[f] - 0.5 * slope[f], face_r_);
+        profile(cc, k, 3 * f + 1, face_shear.data(), h, theta[f - 1] + 0.5 * slope[f - 1], face_l_);
+        profile(cc, k, 3 * f + 2, face_shear.data(), h, theta[f] - 0.5 * slope[f], face_r_);
         left = face_l_.data();
         right = face_r_.data();
       }
       for (int j = 0; j < N; ++j) {
-        const double q = k.velocity_scale * fine_.volume_flux_x[x_face(fine, f, j)];
+        const double q = k.velocity_scale * cc.fine.volume_flux_x[x_face(fine, f, j)];
         flux += q > 0 ? q * left[j] : q * right[j];
       }
     }
@@ -238,9 +294,20 @@ void DepthAveraged::rhs(const Grid& g, const Flow& flow, double t, const Coeffic
 }
 
 double DepthAveraged::max_rate(const Grid& g, const Flow& flow, double t, const Coefficients& k) const {
+  if (cycle_phases_ == 0) return instantaneous_max_rate(cache(0), g, flow, t, k);
+  double rate = 0;  // the average's bound is at most the largest phase's
+  for (int p = 0; p < cycle_phases_; ++p) {
+    const double tp = (p + 0.5) / cycle_phases_ * cycle_period_;
+    rate = std::max(rate, instantaneous_max_rate(cache(1 + p), grid_at(g, flow, tp), flow, tp, k));
+  }
+  return rate;
+}
+
+double DepthAveraged::instantaneous_max_rate(Cache& cc, const Grid& g, const Flow& flow, double t,
+                                             const Coefficients& k) const {
   // |∂F/∂I| ≤ max |u| over the face (the profile's samples are non-negative and average to θ, and
   // ∂c_j/∂I ≥ 0), and ≤ max D (1 + |h_x|) / dx for the dispersion: two faces per column.
-  prepare(g, flow, t);
+  prepare(cc, g, flow, t);
   const int N = samples_;
   const Grid fine(g.length(), g.nx(), N, g.surface_nodes(), g.column_depths());
   double rate = 0;
@@ -248,8 +315,8 @@ double DepthAveraged::max_rate(const Grid& g, const Flow& flow, double t, const 
     const double h = g.h_node(f);
     double u = 0, D = 0;
     for (int j = 0; j < N; ++j) {
-      u = std::max(u, std::abs(k.velocity_scale * fine_.volume_flux_x[x_face(fine, f, j)]) / (h / N));
-      D = std::max(D, k.per_shear * fine_.shear_x[x_face(fine, f, j)] + k.D0);
+      u = std::max(u, std::abs(k.velocity_scale * cc.fine.volume_flux_x[x_face(fine, f, j)]) / (h / N));
+      D = std::max(D, k.per_shear * cc.fine.shear_x[x_face(fine, f, j)] + k.D0);
     }
     rate = std::max(rate, 2 * (u / g.dx() + D * (1 + std::abs(g.slope_node(f))) / (g.dx() * g.dx())));
   }

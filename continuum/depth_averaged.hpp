@@ -24,6 +24,7 @@
 // Terms: advection, segregation, shear_diffusion, background_diffusion (their parameters keep
 // their names, so fits address them as for the 2-D model).
 #include <functional>
+#include <memory>
 #include <span>
 #include <string>
 #include <vector>
@@ -58,6 +59,14 @@ class DepthAveraged {
   static int half_bandwidth() { return 2; }
 
   explicit DepthAveraged(const Grid& grid);
+  ~DepthAveraged();
+
+  /// Cycle averaging (model.cycle_average): the face fluxes are averaged over `phases` equally
+  /// spaced times (p + ½) T / phases of the motion period T at fixed I, so the rhs no longer depends
+  /// on t and an integrator can step over many cycles (docs/continuum.md, "Cycle averaging").
+  /// phases = 0: off (the instantaneous flow).
+  void set_cycle_average(double period, int phases);
+  int cycle_phases() const { return cycle_phases_; }
 
   /// I_i = Σ_k c_ik dσ h̄_i.
   std::vector<double> inventory(const Grid& g, std::span<const double> c) const;
@@ -77,26 +86,28 @@ class DepthAveraged {
   int samples() const { return samples_; }
 
  private:
-  void prepare(const Grid& g, const Flow& flow, double t) const;
+  struct Cache;  // flow on the fine grid at one time, μ and Λ per profile slot
+  Cache& cache(std::size_t j) const;
+  void prepare(Cache& c, const Grid& g, const Flow& flow, double t) const;
   /// Λ at the samples from γ̇ samples over depth h.
   void lambda(const Coefficients& k, const double* shear, double h, std::vector<double>& out) const;
   /// The profile of one slot: column i is 3 i, the face profiles of face f are 3 f + 1 (left) and
   /// 3 f + 2 (right); each slot keeps its μ (Newton's start) and its Λ (while coefficients and flow
   /// stay the same).
-  void profile(const Coefficients& k, int slot, const double* shear, double h, double theta, std::span<double> c) const;
+  void profile(Cache& cache, const Coefficients& k, int slot, const double* shear, double h, double theta,
+               std::span<double> c) const;
+  void instantaneous_fluxes(Cache& cache, const Grid& g, const Flow& flow, double t, const Coefficients& k,
+                            std::span<const double> I, std::vector<double>& F) const;
+  double instantaneous_max_rate(Cache& cache, const Grid& g, const Flow& flow, double t, const Coefficients& k) const;
+  /// The grid at time t (the surface moves) or g.
+  static Grid grid_at(const Grid& g, const Flow& flow, double t);
 
-  int nsub_, samples_;
-  mutable bool prepared_ = false;
-  mutable double prepared_time_ = 0;
-  mutable FaceCoefficients fine_;         // on the (nx, N) grid: x-face volume fluxes and γ̇
-  mutable std::vector<double> col_shear_; // γ̇ at (x_i, σ_j h̄_i), [i * N + j]
-  mutable long prepared_stamp_ = 0;
-  mutable std::vector<double> mu_;  // last μ per slot
-  mutable std::vector<double> lambda_cache_;
-  mutable std::vector<char> lambda_valid_;
-  mutable std::vector<double> lambda_key_ = {0, 0, 0};
-  mutable long lambda_stamp_ = -1;
-  mutable std::vector<double> scratch_lambda_, col_c_, face_l_, face_r_, F_base_, F_pert_;
+  int nx_, nsub_, samples_;
+  int cycle_phases_ = 0;
+  double cycle_period_ = 0;
+  // caches_[0]: the instantaneous flow (and outputs); caches_[1 + p]: averaging phase p.
+  mutable std::vector<std::unique_ptr<Cache>> caches_;
+  mutable std::vector<double> scratch_lambda_, col_c_, face_l_, face_r_, F_base_, F_pert_, F_phase_;
 };
 
 }  // namespace grainscale::continuum

@@ -28,6 +28,11 @@ void Model::add_term(std::unique_ptr<FluxTerm> term) {
   terms_.push_back(std::move(term));
 }
 
+void Model::set_cycle_average(double period, int phases) {
+  if (closure_ != Closure::depth_averaged) throw InputError("continuum model: cycle averaging needs the depth-averaged closure");
+  depth_averaged_->set_cycle_average(period, phases);
+}
+
 bool Model::has_term(const std::string& name) const {
   return std::any_of(terms_.begin(), terms_.end(), [&](const auto& t) { return t->name() == name; });
 }

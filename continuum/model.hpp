@@ -42,6 +42,9 @@ class Model {
   Model& operator=(Model&&) noexcept;
 
   void add_term(std::unique_ptr<FluxTerm> term);
+  /// Depth-averaged closure only: average its face fluxes over `phases` times of the motion period
+  /// (depth_averaged.hpp); phases = 0 switches it off.
+  void set_cycle_average(double period, int phases);
   /// Source s(x, z, t) [1/s], evaluated at cell centres (manufactured-solution tests).
   void set_source(std::function<double(double, double, double)> source) {
     source_ = std::move(source);

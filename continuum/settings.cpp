@@ -108,6 +108,14 @@ ContinuumSettings load_continuum_settings(const std::string& file) {
   if (auto m = root.optional_map("model")) {
     const std::string type = m->choice_or("type", "resolved", {"resolved", "depth_averaged"});
     s.closure = type == "depth_averaged" ? Closure::depth_averaged : Closure::resolved;
+    if (auto c = m->optional_map("cycle_average")) {
+      if (s.closure != Closure::depth_averaged) {
+        throw InputError(m->where("cycle_average") + ": cycle averaging is for model type depth_averaged");
+      }
+      s.cycle_period = c->number("period", Range::positive());
+      s.cycle_phases = static_cast<int>(c->integer_or("phases", 16, 1, 10000));
+      c->finish();
+    }
     m->finish();
   }
   read_grid(root.map("grid"), s);
@@ -193,6 +201,7 @@ Model build_model(const ContinuumSettings& s) {
     grid = Grid(s.length, s.nx, s.nz, nodes);
   }
   Model model(grid, flow, s.closure);
+  if (s.cycle_phases > 0) model.set_cycle_average(s.cycle_period, s.cycle_phases);
   for (const auto& [name, node] : s.terms) {
     if (s.closure == Closure::depth_averaged && !DepthAveraged::supports(name)) {
       throw InputError(s.source_file + ": key 'terms." + name + "': model type depth_averaged has no form of this term (allowed: " +

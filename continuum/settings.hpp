@@ -42,6 +42,8 @@ struct InitialSettings {
 struct ContinuumSettings {
   std::string source_file;
   Closure closure = Closure::resolved;  // model.type: resolved | depth_averaged
+  double cycle_period = 0;              // model.cycle_average.period [s] (depth_averaged only)
+  int cycle_phases = 0;                 // model.cycle_average.phases; 0: no cycle averaging
   double length = 0;               // [m]
   int nx = 0, nz = 0;
   std::vector<double> surface;     // h at the nx + 1 column faces [m] (from `depth` or `surface`)

@@ -135,6 +135,8 @@ TEST_CASE("Bad continuum input throws InputError naming file and key", "[continu
                            Bad{"kappa: 150", "kapa: 150", "observation"},
                            Bad{"grid:", "model: {type: two_layer}\ngrid:", "model.type"},
                            Bad{"grid:", "model: {type: depth_averaged, n: 3}\ngrid:", "model.n"},
+                           Bad{"grid:", "model: {type: resolved, cycle_average: {period: 2}}\ngrid:", "model.cycle_average"},
+                           Bad{"grid:", "model: {type: depth_averaged, cycle_average: {period: 0}}\ngrid:", "model.cycle_average.period"},
                            Bad{"type: cellular, amplitude: 5.0e-4, background_shear: 0.05", "type: sloshing, amplitude: 0.2, period: 2", "flow.amplitude"},
                            Bad{"type: cellular, amplitude: 5.0e-4, background_shear: 0.05", "type: sloshing, amplitude: 0.01", "flow.period"},
                            Bad{"type: cellular, amplitude: 5.0e-4, background_shear: 0.05", "type: sloshing, amplitude: 0.01, period: 2, exponent: 1.5", "flow.exponent"});
@@ -189,6 +191,13 @@ TEST_CASE("A YAML run of the depth-averaged model", "[continuum][driver][depth_a
   // The profile puts the chaff on top at once: coverage at t = 0 (the equilibrium of the initial
   // inventory) is already large.
   CHECK(std::stod(csv_row(r.coverage_file, 1)[5]) > 0.05);
+  // Cycle averaging is read and reaches the model.
+  const ContinuumSettings cyc = load_continuum_settings(
+      write(dir, replaced(text, "model: {type: depth_averaged}", "model: {type: depth_averaged, cycle_average: {period: 2.0, phases: 8}}")));
+  CHECK(cyc.cycle_phases == 8);
+  CHECK(cyc.cycle_period == 2.0);
+  const ContinuumRunSummary rc = run_continuum(cyc);
+  CHECK(std::abs(rc.chaff_final - rc.chaff_initial) < 1e-12 * rc.chaff_initial);
   // A term without a depth-averaged form is refused, naming the file and the term.
   const std::string bad = replaced(text, "  background_diffusion: {D0: 1.0e-6}\n",
                                    "  background_diffusion: {D0: 1.0e-6}\n  surface_drift: {U: 1.0e-4, thickness: 0.01}\n");
