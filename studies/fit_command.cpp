@@ -80,14 +80,24 @@ std::string short_g(double v) {
   return buf;
 }
 
-void read_fit(YamlMap f, FitCommandSettings& s) {
-  const Model model = continuum::build_model(s.model);
-  SurfaceCoverage observation(s.model.kappa, s.model.delta);
+}  // namespace
+
+std::vector<std::string> fittable_parameters(const continuum::ContinuumSettings& model_settings) {
+  const Model model = continuum::build_model(model_settings);
   std::vector<std::string> allowed;
   for (const auto& [alias, full] : kAliases) allowed.push_back(alias);
   for (const auto& n : model.parameter_names()) allowed.push_back(n);
   allowed.push_back("observation.kappa");
   allowed.push_back("observation.delta");
+  return allowed;
+}
+
+namespace {
+
+void read_fit(YamlMap f, FitCommandSettings& s) {
+  const Model model = continuum::build_model(s.model);
+  SurfaceCoverage observation(s.model.kappa, s.model.delta);
+  const std::vector<std::string> allowed = fittable_parameters(s.model);
   for (const std::string& name : f.choices_or_empty("parameters", allowed)) {
     const std::string q = qualified(name);
     if (!is_observation(q) && !model.has_term(q.substr(0, q.find('.')))) {

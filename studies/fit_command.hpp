@@ -31,6 +31,10 @@ struct FitCommandSettings {
   std::string output_folder;
 };
 
+/// The names `fit.parameters` accepts for a model: the short names S, C, D0, kappa, every qualified
+/// parameter of the model's terms, observation.kappa and observation.delta.
+std::vector<std::string> fittable_parameters(const continuum::ContinuumSettings& model_settings);
+
 /// Read and check the settings: unknown keys, unknown parameters, bad ranges and missing files are
 /// InputErrors naming file, line and key. Relative paths are relative to the settings file.
 FitCommandSettings load_fit_command_settings(const std::string& yaml_file);

@@ -25,6 +25,7 @@
 #include "studies/hold_command.hpp"
 #include "studies/openmp_wait_policy.hpp"
 #include "studies/shape_picture.hpp"
+#include "studies/study_run.hpp"
 #include "grainscale_version.hpp"
 
 namespace {
@@ -36,6 +37,12 @@ const char* kUsage = R"(grainscale - chaff and grain movement in shaken bulk gra
 usage: grainscale <command> [options]
 
 commands:
+  study STUDY.yaml [--out DIR] [--threads N] [--resume]
+        run a study end to end: DEM -> coarse-graining -> fit -> prediction ->
+        report.md with figures and the comparison with the report's measurements;
+        the folder holds inputs/, stages/ (each stage's settings, runnable alone),
+        dem/, cg/, fit/, predict/, log.txt (docs/studies.md). --resume continues
+        the DEM stage from its checkpoint
   dem SCENARIO.yaml [--out DIR] [--threads N] [--resume]
         run a DEM scenario: insert particles, step to the end time, write HDF5
         snapshots (+ XDMF for ParaView), summary.yaml and log.txt in the output folder;
@@ -293,6 +300,7 @@ int main(int argc, char** argv) {
   }
   try {
     const Args a = parse(argc, argv, 2);
+    if (cmd == "study") return studies::study_command(a.positional, a.out, a.threads, a.resume);
     if (cmd == "dem") return run_dem(a);
     if (cmd == "bench") return run_bench(a);
     if (cmd == "cg") return run_cg(a);

@@ -1,0 +1,143 @@
+// `grainscale study`: the reduced variant of the default study (studies/platform_quick.yaml) runs
+// every stage end to end and its report has every section; the stage files it writes run alone;
+// bad study files are errors naming the file and the key, found before the DEM runs.
+#include <catch2/catch.hpp>
+#include <filesystem>
+#include <string>
+
+#include "coarsegrain/cg_settings.hpp"
+#include "continuum/settings.hpp"
+#include "dem/input_error.hpp"
+#include "studies/fit_command.hpp"
+#include "studies/study_run.hpp"
+#include "tests/temp_dir.hpp"
+
+using namespace grainscale;
+using grainscale::testing::slurp;
+using grainscale::testing::TempDir;
+using grainscale::testing::write_text;
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::string kStudies = std::string(GRAINSCALE_SOURCE_DIR) + "/studies";
+
+/// The default study's stage files, shrunk: 25 clumps and 20 flakes in the same box, a fast
+/// half-second tilt, a one-minute prediction.
+void write_reduced_study(const TempDir& dir, const std::string& study_extra = "") {
+  write_text(dir / "scenario.yaml", "name: reduced\nseed: 3\nmaterials: " + kStudies + "/materials/report_table1.yaml\n" +
+                                        R"(scale_factor: 2
+contact: {rolling: constant_torque, max_overlap: 0.7}
+time: {end: 0.5, pour_interval: 0.005, step_fraction: 0.2}
+walls:
+  - {name: box, type: box_mesh, min: [0, 0, 0], max: [0.3, 0.03, 0.1], open: [+z], material: perspex,
+     pivot: [-0.6, 0.015, -0.3],
+     motion: {type: platform, amplitude_deg: 10, frequency: 1.0, pause: 0.05, axis: [0, 1, 0], start_time: 0.1}}
+particles:
+  - {material: barley, shape: )" + kStudies + R"(/shapes/wheat.yaml, mass: 0.01, rate: 1.0,
+     region: {min: [0.005, 0.003, 0.003], max: [0.295, 0.027, 0.045]}}
+  - {material: chaff, shape: )" + kStudies + R"(/shapes/chaff.yaml, mass: 0.0001, rate: 0.01,
+     region: {min: [0.005, 0.003, 0.003], max: [0.295, 0.027, 0.045]}}
+output: {directory: unused, snapshot_interval: 0.05, progress_interval: 100}
+)");
+  fs::copy_file(kStudies + "/platform_quick/cg.yaml", dir / "cg.yaml");
+  fs::copy_file(kStudies + "/platform_quick/continuum.yaml", dir / "continuum.yaml");
+  write_text(dir / "study.yaml", R"(name: reduced
+title: "Reduced default study"
+dem: {scenario: scenario.yaml}
+cg: {settings: cg.yaml, flow_from: 0.1}
+fit:
+  model: continuum.yaml
+  parameters: [S, kappa]
+  data: {from: 0.1, every: 2, min_solid_fraction: 0.1}   # a bed one grain deep
+  max_iterations: 5
+predict: {end: 60, outputs: 3}
+compare: {end_length: 0.05}
+output: {directory: out}
+)" + study_extra);
+}
+
+}  // namespace
+
+TEST_CASE("The reduced default study runs every stage and reports every section", "[study]") {
+  TempDir dir("study");
+  write_reduced_study(dir);
+  studies::StudyOptions o;
+  o.threads = 2;
+  studies::StudyRun run(studies::load_study_settings(dir / "study.yaml"), o);
+  run.setup();
+  run.run();
+  run.output();
+  const std::string out = dir / "out";
+
+  const std::string report = slurp(out + "/report.md");
+  for (const char* section : {"## What was run", "## 1. DEM", "## 2. Coarse-graining", "## 3. Fit", "## 4. Prediction",
+                              "## 5. Comparison with the measurements", "## Limits of this comparison", "Verdict:"}) {
+    INFO(section);
+    CHECK(report.find(section) != std::string::npos);
+  }
+  // Every figure the report names exists.
+  for (const char* png : {"cg/slices.png", "cg/coverage.png", "fit/coverage.png", "predict/coverage.png",
+                          "predict/coverage_time.png"}) {
+    INFO(png);
+    CHECK(fs::exists(out + "/" + png));
+    CHECK(report.find(png) != std::string::npos);
+  }
+  CHECK(fs::exists(out + "/dem/snapshots.xmf"));
+  CHECK(fs::exists(out + "/cg/fields.xmf"));
+  CHECK(fs::exists(out + "/log.txt"));
+  CHECK(fs::exists(out + "/inputs/study.yaml"));
+  CHECK(fs::exists(out + "/inputs/scenario.yaml"));
+
+  const studies::StudyResults& r = run.results();
+  REQUIRE(r.stages.size() == 4);
+  CHECK(r.t0 == Approx(0.1).margin(1e-4));  // the snapshot nearest the motion start (a step either side)
+  CHECK(r.initial_c > 0);
+  CHECK(r.initial_c < 1);
+  CHECK(r.fit_names == std::vector<std::string>{"segregation.S", "observation.kappa"});
+  // The prediction conserves chaff and keeps c in [0, 1].
+  CHECK(std::fabs(r.chaff_final - r.chaff_initial) <= 1e-10 * r.chaff_initial);
+  CHECK(r.c_min >= 0);
+  CHECK(r.c_max <= 1);
+
+  // The stage files run alone: each loads with its own loader.
+  CHECK_NOTHROW(cg::load_cg_settings(out + "/stages/cg.yaml"));
+  CHECK_NOTHROW(cg::load_cg_settings(out + "/stages/cg_flow.yaml"));
+  CHECK_NOTHROW(studies::load_fit_command_settings(out + "/stages/fit.yaml"));
+  const continuum::ContinuumSettings p = continuum::load_continuum_settings(out + "/stages/predict.yaml");
+  CHECK(p.t_end == 60);
+  CHECK(p.flow.type == "file");
+}
+
+TEST_CASE("Bad study files name the file and the key before anything runs", "[study][input]") {
+  TempDir dir("study_bad");
+  auto fails_with = [&](const std::string& extra, const std::string& needle, const std::string& replace_from = "",
+                        const std::string& replace_to = "") {
+    write_reduced_study(dir, extra);
+    if (!replace_from.empty()) {
+      std::string text = slurp(dir / "study.yaml");
+      const auto at = text.find(replace_from);
+      REQUIRE(at != std::string::npos);
+      text.replace(at, replace_from.size(), replace_to);
+      write_text(dir / "study.yaml", text);
+    }
+    try {
+      studies::load_study_settings(dir / "study.yaml");
+      FAIL("no error for: " << extra << replace_to);
+    } catch (const InputError& e) {
+      const std::string what = e.what();
+      INFO(what);
+      CHECK(what.find("study.yaml") != std::string::npos);
+      CHECK(what.find(needle) != std::string::npos);
+    }
+    fs::remove_all(dir.path);
+    fs::create_directories(dir.path);
+  };
+  fails_with("extra_key: 1\n", "extra_key");
+  fails_with("", "scenario", "scenario: scenario.yaml", "scenario: missing.yaml");
+  fails_with("", "parameters", "parameters: [S, kappa]", "parameters: [S, no_such_parameter]");
+  fails_with("", "every", "every: 2", "every: 0");
+  fails_with("", "flow_to", "flow_from: 0.1}", "flow_from: 0.1, flow_to: 0.05}");
+  fails_with("", "end", "end: 60", "end: -1");
+  fails_with("", "name", "name: reduced", "name: a/b");
+}
