@@ -84,6 +84,11 @@ CvodeIntegrator::CvodeIntegrator(const Model& model, IntegratorSettings settings
 CvodeIntegrator::~CvodeIntegrator() = default;
 
 void CvodeIntegrator::advance(double t0, double t1, std::vector<double>& c) {
+  if (c.size() != model_.state_size()) {
+    throw std::invalid_argument("cvode: the vector has " + std::to_string(c.size()) + " entries, the model's state " +
+                                std::to_string(model_.state_size()) + " (advance Model::state(t, c), not c, for a moving " +
+                                "surface or the depth-averaged model)");
+  }
   if (t1 <= t0) return;
   double* y = N_VGetArrayPointer(s_->y);
   // Continue the history only if this call picks up where the last one stopped with the same state.

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <string>
 
 namespace grainscale::continuum {
 
@@ -15,6 +16,11 @@ SspRk3::SspRk3(const Model& model, IntegratorSettings settings) : model_(model),
 
 void SspRk3::advance(double t0, double t1, std::vector<double>& c) {
   const std::size_t n = c.size();
+  if (n != model_.state_size()) {
+    throw std::invalid_argument("ssp_rk3: the vector has " + std::to_string(n) + " entries, the model's state " +
+                                std::to_string(model_.state_size()) + " (advance Model::state(t, c), not c, for a moving " +
+                                "surface or the depth-averaged model)");
+  }
   double t = t0;
   long steps = 0;
   while (t < t1) {

@@ -213,3 +213,13 @@ TEST_CASE("Moving surface: manufactured convergence table on finer grids", "[con
   INFO(table.str());
   REQUIRE(table.last_rate() > 1.9);
 }
+
+TEST_CASE("Moving surface: advancing c instead of the state is refused", "[continuum][moving]") {
+  const std::string method = GENERATE(as<std::string>{}, "ssp_rk3", "cvode");
+  Model model = sloshing_bed(8, 4, Limiter::van_leer, false, false);
+  IntegratorSettings s;
+  s.method = method;
+  auto integrator = make_integrator(s, model);
+  std::vector<double> c(model.size(), 0.1);
+  REQUIRE_THROWS_AS(integrator->advance(0, 1, c), std::invalid_argument);
+}
