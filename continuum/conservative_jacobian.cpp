@@ -8,20 +8,20 @@
 namespace grainscale::continuum {
 
 void conservative_band_jacobian(const Model& model, double t, std::span<const double> c, int b,
-                                const std::function<void(std::size_t, std::size_t, double)>& add) {
+                                const std::function<void(std::size_t, std::size_t, double)>& add, TermPart part) {
   const Grid& g = model.grid();
-  conservative_flux_jacobian(model, t, c, b, [&](std::size_t row, std::size_t col, double v) {
+  conservative_flux_jacobian(model, t, c, b, part, [&](std::size_t row, std::size_t col, double v) {
     add(row, col, v / g.area(static_cast<int>(row) / g.nz(), static_cast<int>(row) % g.nz()));
   });
 }
 
-void conservative_flux_jacobian(const Model& model, double t, std::span<const double> c, int b,
+void conservative_flux_jacobian(const Model& model, double t, std::span<const double> c, int b, TermPart part,
                                 const std::function<void(std::size_t, std::size_t, double)>& add) {
   const Grid& g = model.grid();
   const auto n = static_cast<long>(c.size());
   const long w = std::min<long>(2L * b + 1, n);
   FaceFluxes base, perturbed;
-  model.face_fluxes(t, c, base);
+  model.face_fluxes(t, c, base, part);
   std::vector<double> cp(c.begin(), c.end());
   std::vector<double> inc(c.size());
   const double root_eps = std::sqrt(std::numeric_limits<double>::epsilon());
@@ -41,7 +41,7 @@ void conservative_flux_jacobian(const Model& model, double t, std::span<const do
 
   for (long group = 0; group < w; ++group) {
     for (long j = group; j < n; j += w) cp[j] = c[j] + inc[j];
-    model.face_fluxes(t, cp, perturbed);
+    model.face_fluxes(t, cp, perturbed, part);
     for (long j = group; j < n; j += w) cp[j] = c[j];
     for (int f = 1; f < g.nx(); ++f) {
       for (int k = 0; k < g.nz(); ++k) {

@@ -17,11 +17,12 @@ namespace grainscale::continuum {
 
 /// Calls add(row, column, value) for every entry inside the band |row − column| ≤ b.
 void conservative_band_jacobian(const Model& model, double t, std::span<const double> c, int b,
-                                const std::function<void(std::size_t, std::size_t, double)>& add);
+                                const std::function<void(std::size_t, std::size_t, double)>& add,
+                                TermPart part = TermPart::all);
 
 /// The same before the division by the cell area: add(row, column, ∂(−Σ_faces F of row)/∂c_column)
 /// (the moving-surface state, model.cpp, scales it by its own areas).
-void conservative_flux_jacobian(const Model& model, double t, std::span<const double> c, int b,
+void conservative_flux_jacobian(const Model& model, double t, std::span<const double> c, int b, TermPart part,
                                 const std::function<void(std::size_t, std::size_t, double)>& add);
 
 }  // namespace grainscale::continuum

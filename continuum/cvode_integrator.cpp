@@ -70,7 +70,15 @@ CvodeIntegrator::CvodeIntegrator(const Model& model, IntegratorSettings settings
   if (!s_->y || !s_->jac || !s_->solver || !s_->cvode) throw std::runtime_error("CVODE: allocation failed");
   check(CVodeInit(s_->cvode, rhs_callback, 0.0, s_->y), "CVodeInit");
   check(CVodeSetUserData(s_->cvode, const_cast<Model*>(&model_)), "CVodeSetUserData");
-  check(CVodeSStolerances(s_->cvode, settings_.rtol, settings_.atol), "CVodeSStolerances");
+  {
+    // atol is on c; the state's entries carry c times an area or depth (Model::state_scale).
+    N_Vector abstol = N_VClone(s_->y);
+    const std::vector<double> scale = model_.state_scale();
+    for (std::size_t j = 0; j < scale.size(); ++j) N_VGetArrayPointer(abstol)[j] = settings_.atol * scale[j];
+    const int flag = CVodeSVtolerances(s_->cvode, settings_.rtol, abstol);
+    N_VDestroy(abstol);
+    check(flag, "CVodeSVtolerances");
+  }
   check(CVodeSetLinearSolver(s_->cvode, s_->solver, s_->jac), "CVodeSetLinearSolver");
   // Keep total chaff: with Σ A_i J_ij = 0 every Newton correction δ = −(I − γJ)⁻¹ G moves the
   // total exactly to its predicted value. CVODE's default rescaling of δ by 2 / (1 + γ/γ_old)

@@ -48,6 +48,9 @@ class FluxTerm {
   virtual void add_rate_bound(const TermContext& ctx, std::span<double> rate) const = 0;
   /// Half-width of the band of ∂(dc/dt)/∂c this term produces (index = i·nz + k).
   virtual int jacobian_half_bandwidth(const Grid& grid) const = 0;
+  /// True for the stiff, diffusive terms an IMEX integrator treats implicitly (arkode_integrator.hpp);
+  /// the others are explicit there.
+  virtual bool implicit_in_imex() const { return false; }
 
  private:
   std::string name_;

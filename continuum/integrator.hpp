@@ -10,9 +10,9 @@
 namespace grainscale::continuum {
 
 struct IntegratorSettings {
-  std::string method = "cvode";  // "cvode" (BDF, band Jacobian) or "ssp_rk3" (explicit)
-  double rtol = 1e-6;            // cvode: relative tolerance
-  double atol = 1e-9;            // cvode: absolute tolerance on c
+  std::string method = "cvode";  // "cvode" (BDF, band Jacobian), "ssp_rk3" (explicit) or "arkode_imex"
+  double rtol = 1e-6;            // cvode, arkode_imex: relative tolerance
+  double atol = 1e-9;            // cvode, arkode_imex: absolute tolerance on the state
   double cfl = 0.4;              // ssp_rk3: dt = cfl / max_rate
   double max_dt = 0;             // both: upper bound on the step, 0 = none
   long max_steps = 1000000;      // per advance() call

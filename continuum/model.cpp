@@ -100,11 +100,15 @@ void Model::update_faces(double t) const {
   faces_valid_ = true;
 }
 
-void Model::face_fluxes(double t, std::span<const double> c, FaceFluxes& out) const {
+void Model::face_fluxes(double t, std::span<const double> c, FaceFluxes& out, TermPart part) const {
   update_faces(t);
   out.reset(current_);
   const TermContext ctx{current_, faces_};
-  for (const auto& term : terms_) term->add_fluxes(ctx, c, out);
+  for (const auto& term : terms_) {
+    if (part == TermPart::explicit_part && term->implicit_in_imex()) continue;
+    if (part == TermPart::implicit_part && !term->implicit_in_imex()) continue;
+    term->add_fluxes(ctx, c, out);
+  }
 }
 
 void Model::evaluate_source(double t, const Grid& g) const {
@@ -234,35 +238,64 @@ void Model::set_geometry(double t, std::span<const double> y) const {
   }
 }
 
-void Model::state_rhs(double t, std::span<const double> y, std::span<double> dydt) const {
+void Model::state_rhs(double t, std::span<const double> y, std::span<double> dydt, TermPart part) const {
   if (closure_ == Closure::depth_averaged) {
+    // Not split: the whole 1-D rhs is the implicit part of an IMEX integrator.
+    if (part == TermPart::explicit_part) {
+      std::fill(dydt.begin(), dydt.end(), 0.0);
+      return;
+    }
     depth_averaged_->rhs(surface_grid(t), *flow_, t, DepthAveraged::coefficients(*this), y, dydt);
     return;
   }
+  const bool with_source = source_ && part != TermPart::implicit_part;
   if (!flow_->moving_surface()) {
-    rhs(t, y, dydt);
+    face_fluxes(t, y, fluxes_, part);
+    const Grid& g = current_;
+    if (with_source) evaluate_source(t, g);
+    for (int i = 0; i < g.nx(); ++i) {
+      for (int k = 0; k < g.nz(); ++k) {
+        const double net_out = fluxes_.x[x_face(g, i + 1, k)] - fluxes_.x[x_face(g, i, k)] +
+                               fluxes_.s[s_face(g, i, k + 1)] - fluxes_.s[s_face(g, i, k)];
+        double v = -net_out / g.area(i, k);
+        if (with_source) v += source_values_[g.index(i, k)];
+        dydt[g.index(i, k)] = v;
+      }
+    }
     return;
   }
   // (M2): d(A c)/dt = −Σ F(c; Q_rel) + A s,  da/dt = ȧ.
   set_geometry(t, y);
   const Grid& g = current_;
-  face_fluxes(t, c_scratch_, fluxes_);
-  if (source_) evaluate_source(t, surface_grid(t));
+  face_fluxes(t, c_scratch_, fluxes_, part);
+  if (with_source) evaluate_source(t, surface_grid(t));
   for (int i = 0; i < g.nx(); ++i) {
     for (int k = 0; k < g.nz(); ++k) {
       const double net_out = fluxes_.x[x_face(g, i + 1, k)] - fluxes_.x[x_face(g, i, k)] +
                              fluxes_.s[s_face(g, i, k + 1)] - fluxes_.s[s_face(g, i, k)];
       double v = -net_out;
-      if (source_) v += g.area(i, k) * source_values_[g.index(i, k)];
+      if (with_source) v += g.area(i, k) * source_values_[g.index(i, k)];
       dydt[m_index(g, i, k)] = v;
     }
-    dydt[a_index(g, i)] = faces_.column_area_rate[i];
+    dydt[a_index(g, i)] = part == TermPart::implicit_part ? 0.0 : faces_.column_area_rate[i];
   }
 }
 
 double Model::state_max_rate(double t, std::span<const double> y) const {
   if (flow_->moving_surface() && closure_ == Closure::resolved) set_geometry(t, y);
   return max_rate(t);
+}
+
+std::vector<double> Model::state_scale() const {
+  const Grid& g = grid_;
+  if (closure_ == Closure::depth_averaged) return std::vector<double>(g.column_depths());
+  if (!flow_->moving_surface()) return std::vector<double>(size(), 1.0);
+  std::vector<double> s(state_size());
+  for (int i = 0; i < g.nx(); ++i) {
+    for (int k = 0; k < g.nz(); ++k) s[m_index(g, i, k)] = g.area(i, k);
+    s[a_index(g, i)] = g.dx() * g.h_column(i);
+  }
+  return s;
 }
 
 int Model::state_half_bandwidth() const {
@@ -276,13 +309,14 @@ int Model::state_half_bandwidth() const {
 }
 
 void Model::state_jacobian(double t, std::span<const double> y, int b,
-                           const std::function<void(std::size_t, std::size_t, double)>& add) const {
+                           const std::function<void(std::size_t, std::size_t, double)>& add, TermPart part) const {
   if (closure_ == Closure::depth_averaged) {
+    if (part == TermPart::explicit_part) return;
     depth_averaged_->jacobian(surface_grid(t), *flow_, t, DepthAveraged::coefficients(*this), y, b, add);
     return;
   }
   if (!flow_->moving_surface()) {
-    conservative_band_jacobian(*this, t, y, b, add);
+    conservative_band_jacobian(*this, t, y, b, add, part);
     return;
   }
   // Chain rule through c = m / (dσ a): with G = ∂(dm/dt)/∂c (face-flux difference quotients),
@@ -293,7 +327,7 @@ void Model::state_jacobian(double t, std::span<const double> y, int b,
   const Grid g = current_;
   const std::vector<double> c = c_scratch_;
   const int nz = g.nz();
-  conservative_flux_jacobian(*this, t, c, jacobian_half_bandwidth(), [&](std::size_t row, std::size_t col, double dF) {
+  conservative_flux_jacobian(*this, t, c, jacobian_half_bandwidth(), part, [&](std::size_t row, std::size_t col, double dF) {
     const int ri = static_cast<int>(row) / nz, rk = static_cast<int>(row) % nz;
     const int ci = static_cast<int>(col) / nz, ck = static_cast<int>(col) % nz;
     const std::size_t r = m_index(g, ri, rk), m = m_index(g, ci, ck), a = a_index(g, ci);

@@ -29,6 +29,10 @@ namespace grainscale::continuum {
 
 class DepthAveraged;
 
+/// Which terms an evaluation includes: all of them, or the explicit / implicit part of an IMEX split
+/// (FluxTerm::implicit_in_imex; the source and the column-area rates are explicit).
+enum class TermPart { all, explicit_part, implicit_part };
+
 enum class Closure {
   resolved,        // the 2-D model (M1)/(M2)
   depth_averaged   // the 1-D variant (depth_averaged.hpp)
@@ -71,7 +75,7 @@ class Model {
   // ---- the 2-D equations on a fixed grid (c as unknown); for a moving surface on the grid of the
   // last state evaluated.
   /// Σ over terms of the face fluxes at (t, c) (no source).
-  void face_fluxes(double t, std::span<const double> c, FaceFluxes& out) const;
+  void face_fluxes(double t, std::span<const double> c, FaceFluxes& out, TermPart part = TermPart::all) const;
   /// dc/dt from (M1) (fixed surface).
   void rhs(double t, std::span<const double> c, std::span<double> dcdt) const;
   /// Largest Σ_terms rate bound over the cells [1/s]; an explicit step needs dt · this ≤ CFL (for
@@ -97,12 +101,15 @@ class Model {
   Grid surface_grid(double t) const;
   /// Total chaff of a state [m²] (a linear invariant of the state).
   double state_chaff(std::span<const double> y) const;
-  void state_rhs(double t, std::span<const double> y, std::span<double> dydt) const;
+  void state_rhs(double t, std::span<const double> y, std::span<double> dydt, TermPart part = TermPart::all) const;
   double state_max_rate(double t, std::span<const double> y) const;
   int state_half_bandwidth() const;
+  /// Size of a unit of c in each state entry, on the starting grid (1 for c; the cell area for A c;
+  /// the column area for a; the depth for I): an absolute tolerance on c times this is one on y.
+  std::vector<double> state_scale() const;
   /// ∂(dy/dt)/∂y inside the band |row − col| ≤ b, with Σ_rows (chaff weight) J = 0 to round-off.
   void state_jacobian(double t, std::span<const double> y, int b,
-                      const std::function<void(std::size_t, std::size_t, double)>& add) const;
+                      const std::function<void(std::size_t, std::size_t, double)>& add, TermPart part = TermPart::all) const;
 
  private:
   void update_faces(double t) const;

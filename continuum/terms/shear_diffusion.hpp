@@ -11,6 +11,7 @@ class ShearDiffusion final : public FluxTerm {
   void add_fluxes(const TermContext& ctx, std::span<const double> c, FaceFluxes& out) const override;
   void add_rate_bound(const TermContext& ctx, std::span<double> rate) const override;
   int jacobian_half_bandwidth(const Grid& grid) const override;
+  bool implicit_in_imex() const override { return true; }
 
  private:
   double per_shear() const;  // C d² [m²]
