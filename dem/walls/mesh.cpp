@@ -158,9 +158,11 @@ void MeshGeometry::build_bins(double cell_size) {
   origin_ = lo_;
   dims_ = {static_cast<int>(ext.x / cell_) + 1, static_cast<int>(ext.y / cell_) + 1, static_cast<int>(ext.z / cell_) + 1};
   const std::size_t ncell = static_cast<std::size_t>(dims_[0]) * dims_[1] * dims_[2];
-  // A triangle goes into every cell of its bounding box whose centre lies within half a cell
-  // diagonal of it (so a query within a cell's box never misses it).
-  const double half_diag = 0.5 * std::sqrt(3.0) * cell_ * (1 + 1e-9);
+  // A triangle goes into every cell whose centre lies within half a cell diagonal plus `reach_`
+  // of it, so every point of the cell's box within reach_ of the triangle finds it in that one cell
+  // (a query with a smaller reach looks no further; header).
+  reach_ = 2 * cell_;
+  const double half_diag = 0.5 * std::sqrt(3.0) * cell_ * (1 + 1e-9) + reach_;
   std::vector<std::pair<std::uint32_t, std::uint32_t>> cell_tri;
   for (std::size_t t = 0; t < mesh_.triangles.size(); ++t) {
     const auto& v = mesh_.triangles[t];
@@ -170,8 +172,8 @@ void MeshGeometry::build_bins(double cell_size) {
     const double mx[3] = {std::max({a.x, b.x, c.x}), std::max({a.y, b.y, c.y}), std::max({a.z, b.z, c.z})};
     const double o[3] = {origin_.x, origin_.y, origin_.z};
     for (int k = 0; k < 3; ++k) {
-      lo[k] = std::clamp(static_cast<int>(std::floor((mn[k] - o[k]) / cell_)), 0, dims_[k] - 1);
-      hi[k] = std::clamp(static_cast<int>(std::floor((mx[k] - o[k]) / cell_)), 0, dims_[k] - 1);
+      lo[k] = std::clamp(static_cast<int>(std::floor((mn[k] - reach_ - o[k]) / cell_)), 0, dims_[k] - 1);
+      hi[k] = std::clamp(static_cast<int>(std::floor((mx[k] + reach_ - o[k]) / cell_)), 0, dims_[k] - 1);
     }
     for (int i = lo[0]; i <= hi[0]; ++i)
       for (int j = lo[1]; j <= hi[1]; ++j)
@@ -183,18 +185,60 @@ void MeshGeometry::build_bins(double cell_size) {
         }
   }
   build_csr(ncell, cell_tri, bin_start_, bin_tri_);
+
+  // Chebyshev distance (in cells) to the nearest occupied cell: breadth-first from every occupied
+  // cell over the 26 neighbours, capped at 255.
+  cells_to_triangle_.assign(ncell, 255);
+  std::vector<std::uint32_t> front, next;
+  for (std::size_t c = 0; c < ncell; ++c)
+    if (bin_start_[c + 1] > bin_start_[c]) cells_to_triangle_[c] = 0, front.push_back(static_cast<std::uint32_t>(c));
+  for (int d = 1; d < 255 && !front.empty(); ++d) {
+    next.clear();
+    for (const std::uint32_t c : front) {
+      const int i = static_cast<int>(c / (static_cast<std::size_t>(dims_[1]) * dims_[2]));
+      const int j = static_cast<int>(c / dims_[2] % dims_[1]), k = static_cast<int>(c % dims_[2]);
+      for (int a = std::max(i - 1, 0); a <= std::min(i + 1, dims_[0] - 1); ++a)
+        for (int b = std::max(j - 1, 0); b <= std::min(j + 1, dims_[1] - 1); ++b)
+          for (int e = std::max(k - 1, 0); e <= std::min(k + 1, dims_[2] - 1); ++e) {
+            const std::size_t n = (static_cast<std::size_t>(a) * dims_[1] + b) * dims_[2] + e;
+            if (cells_to_triangle_[n] > d) cells_to_triangle_[n] = static_cast<std::uint8_t>(d), next.push_back(static_cast<std::uint32_t>(n));
+          }
+    }
+    front.swap(next);
+  }
 }
 
 int MeshGeometry::nearby(const Vec3& p, double reach, WallHit* hits, int cap) const {
-  // Cells overlapping the query box [p - reach, p + reach].
   const double q[3] = {p.x - origin_.x, p.y - origin_.y, p.z - origin_.z};
+  // Far from every triangle (header): nothing to test. Outside the grid the bound still holds for
+  // the nearest grid cell, less the distance to the grid, which the cell test below handles.
+  {
+    int c3[3];
+    bool inside = true;
+    for (int k = 0; k < 3; ++k) {
+      c3[k] = static_cast<int>(std::floor(q[k] / cell_));
+      inside = inside && c3[k] >= 0 && c3[k] < dims_[k];
+    }
+    if (inside) {
+      const int d = cells_to_triangle_[(static_cast<std::size_t>(c3[0]) * dims_[1] + c3[1]) * dims_[2] + c3[2]];
+      if ((d - 1) * cell_ > reach) return 0;
+    }
+  }
+  // Cells overlapping the query box [p - reach, p + reach]; only p's own cell if it lies in the grid
+  // and reach <= reach_ (its bin holds every triangle that close).
   int lo[3], hi[3];
+  bool own_cell = reach <= reach_;
   for (int k = 0; k < 3; ++k) {
+    const int c = static_cast<int>(std::floor(q[k] / cell_));
+    own_cell = own_cell && c >= 0 && c < dims_[k];
     lo[k] = static_cast<int>(std::floor((q[k] - reach) / cell_));
     hi[k] = static_cast<int>(std::floor((q[k] + reach) / cell_));
     if (hi[k] < 0 || lo[k] >= dims_[k]) return 0;
     lo[k] = std::max(lo[k], 0);
     hi[k] = std::min(hi[k], dims_[k] - 1);
+  }
+  if (own_cell) {
+    for (int k = 0; k < 3; ++k) lo[k] = hi[k] = static_cast<int>(std::floor(q[k] / cell_));
   }
 
   enum Kind : std::uint8_t { kFaceHit, kEdgeHit, kVertexHit };
@@ -229,6 +273,8 @@ int MeshGeometry::nearby(const Vec3& p, double reach, WallHit* hits, int cap) co
           if (dup) continue;
           if (n_seen < 4 * kMax) seen[n_seen++] = t;
           const auto& v = mesh_.triangles[t];
+          // The distance to a triangle is at least that to its plane: one dot product rejects most.
+          if (std::abs(dot(p - mesh_.vertices[v[0]], normal_[t])) >= reach) continue;
           const Closest cl = closest_on_triangle(p, mesh_.vertices[v[0]], mesh_.vertices[v[1]], mesh_.vertices[v[2]]);
           const Vec3 d = p - cl.point;
           const double dist = norm(d);

@@ -15,7 +15,14 @@
 //  * In a concave corner (floor meeting side wall) both faces push, as they should.
 //
 // Distances are unsigned: a triangle pushes spheres off either side (a thin divider plate works).
-// Triangles are binned on a uniform grid in the mesh frame; a query visits the cells within reach.
+// Triangles are binned on a uniform grid in the mesh frame, each into every cell that comes within
+// reach_ = 2 cells of it: a query of at most that reach (a sphere's radius, the common case) looks in
+// its own cell only; a longer one visits the cells within its reach.
+// Most queries come from particles far from every triangle (the inside of a bed): each cell also
+// stores how many cells away the nearest occupied cell is (a Chebyshev distance transform), and a
+// query whose cell is farther than its reach returns at once. That bound is safe: a triangle at
+// distance D from p lies in a cell at most floor(D / cell) + 1 cells from p's (every cell holding a
+// point of a triangle has it binned), so D >= (cells - 1) * cell.
 #include <array>
 #include <cstdint>
 #include <string>
@@ -59,8 +66,10 @@ class MeshGeometry final : public WallGeometry {
   // Bins: cell (i, j, k) holds bin_tri_[bin_start_[c] .. bin_start_[c+1]).
   Vec3 lo_, hi_, origin_;
   double cell_ = 1;
+  double reach_ = 0;  // bins hold every triangle within this distance of the cell (2 cells)
   std::array<int, 3> dims_{1, 1, 1};
   std::vector<std::uint32_t> bin_start_, bin_tri_;
+  std::vector<std::uint8_t> cells_to_triangle_;  // per cell: Chebyshev cells to the nearest occupied one (max 255)
 };
 
 }  // namespace grainscale::dem
