@@ -206,7 +206,12 @@ LoopResult run_loop(const LoopSettings& s) {
             << (constrained ? "" : "; its strength is not constrained") << ")";
       }
     }
-    if (res.chosen < 0) why << "; no candidate meets the criteria, so none is added";
+    if (res.chosen < 0) {
+      const bool any = std::any_of(res.candidates.begin(), res.candidates.end(),
+                                   [](const Evaluation& e) { return e.ok && std::isfinite(e.cv_error); });
+      if (!any) why << "no candidate could be cross-validated (every fold leaves too few observations for its parameters)";
+      why << "; no candidate meets the criteria, so none is added";
+    }
   }
   res.reason = why.str();
   const Evaluation& after = res.chosen >= 0 ? res.candidates[res.chosen] : res.base;
@@ -222,7 +227,8 @@ int loop_command(const std::vector<std::string>& positional, const std::string& 
   if (!out.empty()) s.output_folder = out;
   const LoopResult r = run_loop(s);
   std::printf("base: chi2/dof = %.4g, CV error %.4g (%s blocks); residual %s\n", r.base.chi2 / std::max(1, r.base.n - r.base.k),
-              r.base.cv_error, r.base.cv_by.c_str(), r.diagnosis_before.white ? "white" : "structured");
+              r.base.cv_error, r.base.cv_by.c_str(),
+              !r.diagnosis_before.tested ? "untested (too few points)" : r.diagnosis_before.white ? "white" : "structured");
   for (const auto& e : r.candidates) {
     if (e.ok) std::printf("  %-26s CV error %.4g  dBIC %+.4g\n", e.name.c_str(), e.cv_error, e.bic - r.base.bic);
     else std::printf("  %-26s not ranked: %s\n", e.name.c_str(), e.error.c_str());

@@ -304,8 +304,10 @@ Diagnosis diagnose(const continuum::Grid& g, const std::vector<ResidualPoint>& p
           << t.runs_p << "; ";
       }
     }
+    d.tested = !d.tests.empty();
     if (d.tests.empty()) {
-      d.verdict = "too few observations in series to test whiteness";
+      d.white = false;
+      d.verdict = "untested: too few observations in series (8 or more needed)";
     } else if (d.white) {
       d.verdict = "white: no test rejects at alpha = " + std::to_string(s.alpha) + " (Bonferroni over " +
                   std::to_string(n_tests) + " tests)";

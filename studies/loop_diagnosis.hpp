@@ -77,7 +77,8 @@ struct Diagnosis {
   double correlation_with_c = 0;
   // Whiteness.
   std::vector<SeriesTest> tests;
-  bool white = true;
+  bool tested = false;  // enough points in series for the whiteness tests
+  bool white = true;    // meaningful only when tested
   std::string verdict;
 };
 

@@ -24,15 +24,16 @@ void set(Model& m, SurfaceCoverage& o, const std::string& name, double v) {
   else m.set_parameter(name, v);
 }
 
-Observations subset(const Observations& data, const std::vector<int>& fold, int held_out, bool keep) {
+/// The observations of block `held_out` (held = true) or of every other block (held = false).
+Observations subset(const Observations& data, const std::vector<int>& fold, int held_out, bool held) {
   Observations s = data;
   s.fields.clear();
   s.coverage.clear();
   std::size_t j = 0;
   for (const auto& o : data.fields)
-    if ((fold[j++] == held_out) != keep) s.fields.push_back(o);
+    if ((fold[j++] == held_out) == held) s.fields.push_back(o);
   for (const auto& o : data.coverage)
-    if ((fold[j++] == held_out) != keep) s.coverage.push_back(o);
+    if ((fold[j++] == held_out) == held) s.coverage.push_back(o);
   return s;
 }
 

@@ -40,6 +40,8 @@ std::string quoted(const std::string& text) {
   return q + "\"";
 }
 
+std::string verdict(const Diagnosis& d) { return !d.tested ? "untested" : d.white ? "white" : "structured"; }
+
 void yaml_evaluation(std::ostringstream& y, const Evaluation& e, const std::string& indent) {
   y << indent << "ok: " << (e.ok ? "true" : "false") << "\n";
   if (!e.ok) {
@@ -92,7 +94,7 @@ void yaml_diagnosis(std::ostringstream& y, const Diagnosis& d) {
       << ", portmanteau_q: " << g(t.q) << ", portmanteau_p: " << g(t.q_p) << ", runs: " << g(t.runs)
       << ", runs_expected: " << g(t.runs_expected) << ", runs_p: " << g(t.runs_p) << "}\n";
   }
-  y << "  white: " << (d.white ? "true" : "false") << "\n  verdict: " << quoted(d.verdict) << "\n";
+  y << "  tested: " << (d.tested ? "true" : "false") << "\n  white: " << (d.white ? "true" : "false") << "\n  verdict: " << quoted(d.verdict) << "\n";
 }
 
 void md_diagnosis(std::ostringstream& m, const Diagnosis& d) {
@@ -284,8 +286,7 @@ std::vector<std::string> write_loop_outputs(const LoopSettings& s, const FitComm
     << "| RMSE coverage | " << s4(r.base.rmse_coverage) << " | " << s4(after.rmse_coverage) << " |\n"
     << "| max error coverage | " << s4(r.base.max_coverage) << " | " << s4(after.max_coverage) << " |\n"
     << "| CV RMSE coverage | " << s4(r.base.cv_rmse_coverage) << " | " << s4(after.cv_rmse_coverage) << " |\n"
-    << "| residual | " << (r.diagnosis_before.white ? "white" : "structured") << " | "
-    << (r.diagnosis_after.white ? "white" : "structured") << " |\n\n"
+    << "| residual | " << verdict(r.diagnosis_before) << " | " << verdict(r.diagnosis_after) << " |\n\n"
     << "## 1. Base fit\n\n| parameter | value | standard error |\n|---|---|---|\n";
   for (std::size_t j = 0; j < r.base.parameters.size(); ++j) {
     m << "| `" << r.base.parameters[j] << "` | " << s4(r.base.values[j]) << " | " << s4(r.base.standard_errors[j]) << " |\n";
