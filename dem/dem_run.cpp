@@ -1,4 +1,5 @@
 #include "dem/dem_run.hpp"
+#include "dem/scaling.hpp"
 
 #include <chrono>
 #include <cmath>
@@ -94,6 +95,8 @@ void DemRun::setup() {
     line << p.batch().label << ": pours " << p.batch().mass << " kg during the run";
     log(line.str());
   }
+  // A scaled run is only as good as its passages are wide in scaled particles (docs/scaling.md).
+  for (const std::string& w : narrow_passage_warnings(scenario_)) log("warning: " + w);
   const Simulation& sim = *run_.sim;
   std::ostringstream s;
   s << sim.particles().size() << " spheres in " << sim.bodies().size() << " bodies, " << sim.walls().size()

@@ -83,6 +83,8 @@ TEST_CASE("The reduced default study runs every stage and reports every section"
     CHECK(fs::exists(out + "/" + png));
     CHECK(report.find(png) != std::string::npos);
   }
+  // The 30 mm box is about two 2x grains wide: the DEM says so, and the report carries it.
+  CHECK(report.find("mm wide, only") != std::string::npos);
   CHECK(fs::exists(out + "/dem/snapshots.xmf"));
   CHECK(fs::exists(out + "/cg/fields.xmf"));
   CHECK(fs::exists(out + "/log.txt"));
