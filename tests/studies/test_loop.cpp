@@ -264,7 +264,7 @@ struct Hidden {
 }  // namespace
 
 TEST_CASE("Each hidden library effect is found in 9 of 10 noisy replicates; none is added without one",
-          "[.validate][studies][loop]") {
+          "[.validate][studies]") {
   // Strengths: large enough to matter over the 300 s of data at sigma = 0.01, in the physical range
   // of docs/loop.md. lever_arm uses a ship-hold geometry (axis 15 m away): in the report's box the
   // lever arm is too weak to see (a/g ~ 0.002).
