@@ -20,6 +20,12 @@ void read_grid(YamlMap m, ContinuumSettings& s) {
   s.length = m.number("length", Range::positive());
   s.nx = static_cast<int>(m.integer("nx", 1, 100000));
   s.nz = static_cast<int>(m.integer("nz", 1, 10000));
+  // Each bound alone admits 1e9 cells (tens of GB and hours per step): cap the product too.
+  constexpr long kMaxCells = 4'000'000;
+  if (static_cast<long>(s.nx) * s.nz > kMaxCells) {
+    throw InputError(m.where("nz") + ": nx * nz = " + std::to_string(static_cast<long>(s.nx) * s.nz) +
+                     " cells; at most " + std::to_string(kMaxCells) + " (a 2-D bed needs far fewer)");
+  }
   if (m.has("depth") && m.has("surface")) {
     throw InputError(m.where("depth") + ": give either 'depth' (flat bed) or 'surface' (nx + 1 heights), not both");
   }

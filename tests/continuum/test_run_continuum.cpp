@@ -122,7 +122,8 @@ TEST_CASE("Bad continuum input throws InputError naming file and key", "[continu
     const char* to;
     const char* expect;  // part of the message
   };
-  const Bad bad = GENERATE(Bad{"nx: 24", "nx: 0", "grid.nx"}, Bad{"S: 1.0e-3", "S: 5", "terms.segregation.S"},
+  const Bad bad = GENERATE(Bad{"nx: 24", "nx: 0", "grid.nx"}, Bad{"nx: 24, nz: 8", "nx: 100000, nz: 10000", "nx * nz"},
+                           Bad{"S: 1.0e-3", "S: 5", "terms.segregation.S"},
                            Bad{"C: 0.5", "C: 0.5, c: 1", "terms.shear_diffusion.c"},
                            Bad{"limiter: van_leer}\n  seg", "limiter: superbee}\n  seg", "superbee"},
                            Bad{"background_diffusion:", "background_difusion:", "background_difusion"},
