@@ -98,7 +98,7 @@ const std::vector<double> kTimes{50, 100, 150, 200, 250, 300};
 
 }  // namespace
 
-TEST_CASE("White noise is judged white; a smooth structure is not", "[studies][loop]") {
+TEST_CASE("White noise is judged white and a smooth structure is not", "[studies][loop]") {
   gsl_rng* rng = gsl_rng_alloc(gsl_rng_mt19937);
   const continuum::Grid g = continuum::Grid::flat(0.4, 0.1, 20, 5);
   int white = 0;
@@ -132,7 +132,7 @@ TEST_CASE("White noise is judged white; a smooth structure is not", "[studies][l
   gsl_rng_free(rng);
 }
 
-TEST_CASE("The diagnosis splits symmetric, antisymmetric, harmonic, surface and wall parts", "[studies][loop]") {
+TEST_CASE("The diagnosis splits symmetric and antisymmetric and harmonic and surface and wall parts", "[studies][loop]") {
   const continuum::Grid g = continuum::Grid::flat(0.4, 0.1, 10, 4);
   auto points = [&](auto r_of) {
     std::vector<ResidualPoint> out;
@@ -178,7 +178,7 @@ TEST_CASE("The diagnosis splits symmetric, antisymmetric, harmonic, surface and 
   CHECK(wall.regions[4].rms == 0);
 }
 
-TEST_CASE("grainscale loop finds a hidden surface drift, adds it and cuts the held-out error", "[studies][loop]") {
+TEST_CASE("grainscale loop finds a hidden surface drift and adds it and cuts the held-out error", "[studies][loop]") {
   const fs::path dir = scratch("drift");
   const double sigma = 0.01;
   write_data(dir, model_yaml(10, 5, "  surface_drift: {U: 8.0e-4, thickness: 0.01}\n"), kTimes, sigma, 7);
@@ -263,7 +263,7 @@ struct Hidden {
 
 }  // namespace
 
-TEST_CASE("Each hidden library effect is found in 9 of 10 noisy replicates; none is added without one",
+TEST_CASE("Each hidden library effect is found in 9 of 10 noisy replicates and none is added without one",
           "[.validate][studies]") {
   // Strengths: large enough to matter over the 300 s of data at sigma = 0.01, in the physical range
   // of docs/loop.md. lever_arm uses a ship-hold geometry (axis 15 m away): in the report's box the
