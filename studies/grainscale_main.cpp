@@ -91,6 +91,22 @@ commands:
 Scenario format: docs/scenario.md. Snapshot layout: docs/snapshot_layout.md.
 )";
 
+/// `grainscale CMD --help`: the usage entry of CMD (its line and the indented lines under it), or
+/// everything for an unknown command.
+std::string command_usage(const std::string& cmd) {
+  std::istringstream in(kUsage);
+  std::string line, entry;
+  bool inside = false;
+  for (std::getline(in, line); in; std::getline(in, line)) {
+    const bool starts_entry = line.rfind("  ", 0) == 0 && line.size() > 2 && line[2] != ' ';
+    if (starts_entry) inside = line.substr(2, cmd.size() + 1) == cmd + " " || line.substr(2) == cmd;
+    else if (!line.empty() && line[0] != ' ') inside = false;
+    if (inside) entry += line + "\n";
+  }
+  if (entry.empty()) return kUsage;
+  return "usage: grainscale " + entry.substr(2) + "\n(all commands: grainscale --help)\n";
+}
+
 struct Args {
   std::vector<std::string> positional;
   std::string out;
@@ -294,7 +310,7 @@ int main(int argc, char** argv) {
   const std::string cmd = argv[1];
   for (int i = 2; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--help") || !std::strcmp(argv[i], "-h")) {
-      std::cout << kUsage;
+      std::cout << command_usage(cmd);
       return 0;
     }
   }

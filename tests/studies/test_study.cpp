@@ -2,6 +2,7 @@
 // every stage end to end and its report has every section; the stage files it writes run alone;
 // bad study files are errors naming the file and the key, found before the DEM runs.
 #include <catch2/catch.hpp>
+#include <cstdio>
 #include <filesystem>
 #include <string>
 
@@ -142,4 +143,18 @@ TEST_CASE("Bad study files name the file and the key before anything runs", "[st
   fails_with("", "flow_to", "flow_from: 0.1}", "flow_from: 0.1, flow_to: 0.05}");
   fails_with("", "end", "end: 60", "end: -1");
   fails_with("", "name", "name: reduced", "name: a/b");
+}
+
+TEST_CASE("grainscale COMMAND --help prints that command's usage", "[study][cli]") {
+  for (const std::string cmd : {"study", "dem", "cg", "fit", "predict", "loop", "calibrate", "hold"}) {
+    INFO(cmd);
+    FILE* p = popen((std::string(GRAINSCALE_BINARY) + " " + cmd + " --help").c_str(), "r");
+    REQUIRE(p != nullptr);
+    std::string out;
+    char buf[512];
+    while (std::fgets(buf, sizeof buf, p)) out += buf;
+    CHECK(pclose(p) == 0);
+    CHECK(out.rfind("usage: grainscale " + cmd + " ", 0) == 0);
+    CHECK(out.find("(all commands: grainscale --help)") != std::string::npos);
+  }
 }
