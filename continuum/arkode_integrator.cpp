@@ -2,6 +2,7 @@
 
 #include <arkode/arkode_arkstep.h>
 #include <nvector/nvector_serial.h>
+#include "continuum/sundials_band_system.hpp"
 #include <sunlinsol/sunlinsol_band.h>
 #include <sunmatrix/sunmatrix_band.h>
 
@@ -26,16 +27,7 @@ int explicit_rhs(realtype t, N_Vector y, N_Vector ydot, void* user) { return rhs
 int implicit_rhs(realtype t, N_Vector y, N_Vector ydot, void* user) { return rhs_part(t, y, ydot, user, TermPart::implicit_part); }
 
 int implicit_jacobian(realtype t, N_Vector y, N_Vector, SUNMatrix J, void* user, N_Vector, N_Vector, N_Vector) {
-  const auto* model = static_cast<const Model*>(user);
-  const auto n = static_cast<std::size_t>(N_VGetLength(y));
-  SUNMatZero(J);
-  const int b = static_cast<int>(SUNBandMatrix_UpperBandwidth(J));
-  model->state_jacobian(
-      t, std::span<const double>(N_VGetArrayPointer(y), n), b,
-      [&](std::size_t row, std::size_t col, double v) {
-        SM_ELEMENT_B(J, static_cast<sunindextype>(row), static_cast<sunindextype>(col)) += v;
-      },
-      TermPart::implicit_part);
+  fill_band_jacobian(*static_cast<const Model*>(user), t, y, J, TermPart::implicit_part);
   return 0;
 }
 
@@ -46,42 +38,22 @@ void check(int flag, const char* what) {
 }  // namespace
 
 struct ArkodeImex::Sundials {
-  SUNContext ctx = nullptr;
-  N_Vector y = nullptr;
-  SUNMatrix jac = nullptr;
-  SUNLinearSolver solver = nullptr;
+  SundialsBandSystem band;  // freed after the integrator memory (member order)
   void* ark = nullptr;
+  explicit Sundials(const Model& model) : band(model, "ARKODE") {}
   ~Sundials() {
     if (ark) ARKStepFree(&ark);
-    if (solver) SUNLinSolFree(solver);
-    if (jac) SUNMatDestroy(jac);
-    if (y) N_VDestroy(y);
-    if (ctx) SUNContext_Free(&ctx);
   }
 };
 
 ArkodeImex::ArkodeImex(const Model& model, IntegratorSettings settings)
-    : model_(model), settings_(std::move(settings)), s_(std::make_unique<Sundials>()) {
-  const auto n = static_cast<sunindextype>(model.state_size());
-  const auto bw = static_cast<sunindextype>(model.state_half_bandwidth());
-  check(SUNContext_Create(nullptr, &s_->ctx), "SUNContext_Create");
-  s_->y = N_VNew_Serial(n, s_->ctx);
-  N_VConst(0.0, s_->y);
-  s_->jac = SUNBandMatrix(n, bw, bw, s_->ctx);
-  s_->solver = SUNLinSol_Band(s_->y, s_->jac, s_->ctx);
-  s_->ark = ARKStepCreate(explicit_rhs, implicit_rhs, 0.0, s_->y, s_->ctx);
-  if (!s_->y || !s_->jac || !s_->solver || !s_->ark) throw std::runtime_error("ARKODE: allocation failed");
+    : model_(model), settings_(std::move(settings)), s_(std::make_unique<Sundials>(model)) {
+  s_->ark = ARKStepCreate(explicit_rhs, implicit_rhs, 0.0, s_->band.y, s_->band.ctx);
+  if (!s_->ark) throw std::runtime_error("ARKODE: allocation failed");
   check(ARKStepSetUserData(s_->ark, const_cast<Model*>(&model_)), "ARKStepSetUserData");
-  {
-    // atol is on c; the state's entries carry c times an area or depth (Model::state_scale).
-    N_Vector abstol = N_VClone(s_->y);
-    const std::vector<double> scale = model_.state_scale();
-    for (std::size_t j = 0; j < scale.size(); ++j) N_VGetArrayPointer(abstol)[j] = settings_.atol * scale[j];
-    const int flag = ARKStepSVtolerances(s_->ark, settings_.rtol, abstol);
-    N_VDestroy(abstol);
-    check(flag, "ARKStepSVtolerances");
-  }
-  check(ARKStepSetLinearSolver(s_->ark, s_->solver, s_->jac), "ARKStepSetLinearSolver");
+  check(s_->band.set_scaled_abstol(model_, settings_.atol, [&](N_Vector abstol) { return ARKStepSVtolerances(s_->ark, settings_.rtol, abstol); }),
+        "ARKStepSVtolerances");
+  check(ARKStepSetLinearSolver(s_->ark, s_->band.solver, s_->band.jac), "ARKStepSetLinearSolver");
   check(ARKStepSetJacFn(s_->ark, implicit_jacobian), "ARKStepSetJacFn");
   // As for CVODE (cvode_integrator.cpp): unscaled Newton corrections keep the linear invariant.
   check(ARKStepSetLinearSolutionScaling(s_->ark, SUNFALSE), "ARKStepSetLinearSolutionScaling");
@@ -97,16 +69,16 @@ void ArkodeImex::advance(double t0, double t1, std::vector<double>& c) {
                                 std::to_string(model_.state_size()) + " (advance Model::state(t, c))");
   }
   if (t1 <= t0) return;
-  double* y = N_VGetArrayPointer(s_->y);
+  double* y = N_VGetArrayPointer(s_->band.y);
   if (!needs_init_ && (t0 != t_current_ || !std::equal(c.begin(), c.end(), y))) needs_init_ = true;
   if (needs_init_) {
     std::copy(c.begin(), c.end(), y);
-    check(ARKStepReInit(s_->ark, explicit_rhs, implicit_rhs, t0, s_->y), "ARKStepReInit");
+    check(ARKStepReInit(s_->ark, explicit_rhs, implicit_rhs, t0, s_->band.y), "ARKStepReInit");
     needs_init_ = false;
   }
   check(ARKStepSetStopTime(s_->ark, t1), "ARKStepSetStopTime");
   double t_reached = t0;
-  check(ARKStepEvolve(s_->ark, t1, s_->y, &t_reached, ARK_NORMAL), "ARKStepEvolve");
+  check(ARKStepEvolve(s_->ark, t1, s_->band.y, &t_reached, ARK_NORMAL), "ARKStepEvolve");
   std::copy(y, y + c.size(), c.begin());
   t_current_ = t_reached;
 }

@@ -2,6 +2,7 @@
 
 #include <cvode/cvode.h>
 #include <nvector/nvector_serial.h>
+#include "continuum/sundials_band_system.hpp"
 #include <sunlinsol/sunlinsol_band.h>
 #include <sunmatrix/sunmatrix_band.h>
 
@@ -25,14 +26,7 @@ int rhs_callback(realtype t, N_Vector y, N_Vector ydot, void* user) {
 
 /// Band Jacobian with exact column sums (conservative_jacobian.hpp).
 int jacobian_callback(realtype t, N_Vector y, N_Vector, SUNMatrix J, void* user, N_Vector, N_Vector, N_Vector) {
-  const auto* model = static_cast<const Model*>(user);
-  const auto n = static_cast<std::size_t>(N_VGetLength(y));
-  SUNMatZero(J);
-  const int b = static_cast<int>(SUNBandMatrix_UpperBandwidth(J));
-  model->state_jacobian(t, std::span<const double>(N_VGetArrayPointer(y), n), b,
-                        [&](std::size_t row, std::size_t col, double v) {
-                               SM_ELEMENT_B(J, static_cast<sunindextype>(row), static_cast<sunindextype>(col)) += v;
-                             });
+  fill_band_jacobian(*static_cast<const Model*>(user), t, y, J);
   return 0;
 }
 
@@ -43,43 +37,23 @@ void check(int flag, const char* what) {
 }  // namespace
 
 struct CvodeIntegrator::Sundials {
-  SUNContext ctx = nullptr;
-  N_Vector y = nullptr;
-  SUNMatrix jac = nullptr;
-  SUNLinearSolver solver = nullptr;
+  SundialsBandSystem band;  // freed after the integrator memory (member order)
   void* cvode = nullptr;
+  explicit Sundials(const Model& model) : band(model, "CVODE") {}
   ~Sundials() {
     if (cvode) CVodeFree(&cvode);
-    if (solver) SUNLinSolFree(solver);
-    if (jac) SUNMatDestroy(jac);
-    if (y) N_VDestroy(y);
-    if (ctx) SUNContext_Free(&ctx);
   }
 };
 
 CvodeIntegrator::CvodeIntegrator(const Model& model, IntegratorSettings settings)
-    : model_(model), settings_(std::move(settings)), s_(std::make_unique<Sundials>()) {
-  const auto n = static_cast<sunindextype>(model.state_size());
-  const auto bw = static_cast<sunindextype>(model.state_half_bandwidth());
-  check(SUNContext_Create(nullptr, &s_->ctx), "SUNContext_Create");
-  s_->y = N_VNew_Serial(n, s_->ctx);
-  N_VConst(0.0, s_->y);
-  s_->jac = SUNBandMatrix(n, bw, bw, s_->ctx);
-  s_->solver = SUNLinSol_Band(s_->y, s_->jac, s_->ctx);
-  s_->cvode = CVodeCreate(CV_BDF, s_->ctx);
-  if (!s_->y || !s_->jac || !s_->solver || !s_->cvode) throw std::runtime_error("CVODE: allocation failed");
-  check(CVodeInit(s_->cvode, rhs_callback, 0.0, s_->y), "CVodeInit");
+    : model_(model), settings_(std::move(settings)), s_(std::make_unique<Sundials>(model)) {
+  s_->cvode = CVodeCreate(CV_BDF, s_->band.ctx);
+  if (!s_->cvode) throw std::runtime_error("CVODE: allocation failed");
+  check(CVodeInit(s_->cvode, rhs_callback, 0.0, s_->band.y), "CVodeInit");
   check(CVodeSetUserData(s_->cvode, const_cast<Model*>(&model_)), "CVodeSetUserData");
-  {
-    // atol is on c; the state's entries carry c times an area or depth (Model::state_scale).
-    N_Vector abstol = N_VClone(s_->y);
-    const std::vector<double> scale = model_.state_scale();
-    for (std::size_t j = 0; j < scale.size(); ++j) N_VGetArrayPointer(abstol)[j] = settings_.atol * scale[j];
-    const int flag = CVodeSVtolerances(s_->cvode, settings_.rtol, abstol);
-    N_VDestroy(abstol);
-    check(flag, "CVodeSVtolerances");
-  }
-  check(CVodeSetLinearSolver(s_->cvode, s_->solver, s_->jac), "CVodeSetLinearSolver");
+  check(s_->band.set_scaled_abstol(model_, settings_.atol, [&](N_Vector abstol) { return CVodeSVtolerances(s_->cvode, settings_.rtol, abstol); }),
+        "CVodeSVtolerances");
+  check(CVodeSetLinearSolver(s_->cvode, s_->band.solver, s_->band.jac), "CVodeSetLinearSolver");
   // Keep total chaff: with Σ A_i J_ij = 0 every Newton correction δ = −(I − γJ)⁻¹ G moves the
   // total exactly to its predicted value. CVODE's default rescaling of δ by 2 / (1 + γ/γ_old)
   // (after γ changed since the last Jacobian) would break that and leave an O(tolerance) drift.
@@ -98,17 +72,17 @@ void CvodeIntegrator::advance(double t0, double t1, std::vector<double>& c) {
                                 "surface or the depth-averaged model)");
   }
   if (t1 <= t0) return;
-  double* y = N_VGetArrayPointer(s_->y);
+  double* y = N_VGetArrayPointer(s_->band.y);
   // Continue the history only if this call picks up where the last one stopped with the same state.
   if (!needs_init_ && (t0 != t_current_ || !std::equal(c.begin(), c.end(), y))) needs_init_ = true;
   if (needs_init_) {
     std::copy(c.begin(), c.end(), y);
-    check(CVodeReInit(s_->cvode, t0, s_->y), "CVodeReInit");
+    check(CVodeReInit(s_->cvode, t0, s_->band.y), "CVodeReInit");
     needs_init_ = false;
   }
   check(CVodeSetStopTime(s_->cvode, t1), "CVodeSetStopTime");
   double t_reached = t0;
-  check(CVode(s_->cvode, t1, s_->y, &t_reached, CV_NORMAL), "CVode");
+  check(CVode(s_->cvode, t1, s_->band.y, &t_reached, CV_NORMAL), "CVode");
   std::copy(y, y + c.size(), c.begin());
   t_current_ = t_reached;
 }
