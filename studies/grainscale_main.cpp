@@ -25,7 +25,7 @@
 #include "studies/hold_command.hpp"
 #include "studies/openmp_wait_policy.hpp"
 #include "studies/shape_picture.hpp"
-#include "studies/study_run.hpp"
+#include "studies/study_kinds.hpp"
 #include "grainscale_version.hpp"
 
 namespace {

@@ -95,8 +95,8 @@ StudyRun::StudyRun(StudySettings settings, StudyOptions options) : s_(std::move(
 std::string StudyRun::path(const std::string& relative) const { return fs::absolute(fs::path(out_) / relative).lexically_normal().string(); }
 
 void StudyRun::log(const std::string& line) {
-  std::cerr << "[study] " << line << "\n";
-  if (log_) log_ << line << std::endl;
+  if (folder_) folder_->log(line);
+  else std::cerr << "[study] " << line << "\n";
 }
 
 void StudyRun::stage_done(const std::string& name, const std::string& what, double started) {
@@ -105,19 +105,13 @@ void StudyRun::stage_done(const std::string& name, const std::string& what, doub
 }
 
 void StudyRun::setup() {
+  // The inputs as they were: the study file and the stage files it names.
+  folder_.emplace(out_, std::vector<std::string>{s_.source_file, s_.scenario, s_.cg_settings, s_.model}, o_.resume);
   std::error_code ec;
-  fs::create_directories(path("inputs"), ec);
   fs::create_directories(path("stages"), ec);
-  if (ec || !fs::is_directory(path("stages"))) throw std::runtime_error("cannot create the study folder " + out_ + ": " + ec.message());
-  log_.open(path("log.txt"), o_.resume ? std::ios::app : std::ios::trunc);
-  if (!log_) throw std::runtime_error("cannot write " + path("log.txt"));
+  if (ec || !fs::is_directory(path("stages"))) throw std::runtime_error("cannot create " + path("stages") + ": " + ec.message());
   if (o_.threads > 0) omp_set_num_threads(o_.threads);
   log("study " + s_.name + " (" + s_.source_file + ") -> " + out_ + (o_.resume ? " (resuming)" : ""));
-  // The inputs as they were: the study file and the stage files it names.
-  for (const std::string& f : {s_.source_file, s_.scenario, s_.cg_settings, s_.model}) {
-    fs::copy_file(f, path("inputs/" + fs::path(f).filename().string()), fs::copy_options::overwrite_existing, ec);
-    if (ec) throw std::runtime_error("cannot copy " + f + " into " + path("inputs") + ": " + ec.message());
-  }
 }
 
 void StudyRun::run() {
@@ -383,28 +377,6 @@ void StudyRun::predict() {
   stage_done("predict", "coverage at " + g(s_.predict_end, 4) + " s: centre " + g(results_.coverage_centre, 3) +
                             ", ends " + g(results_.coverage_left, 3) + " / " + g(results_.coverage_right, 3),
              started);
-}
-
-int study_command(const std::vector<std::string>& positional, const std::string& out, const std::string& threads,
-                  bool resume) {
-  if (positional.size() != 1) throw InputError("usage: grainscale study STUDY.yaml [--out DIR] [--threads N] [--resume]");
-  StudyOptions o;
-  o.output_override = out;
-  o.resume = resume;
-  if (!threads.empty()) {
-    try {
-      o.threads = std::stoi(threads);
-    } catch (...) {
-      throw InputError("--threads: '" + threads + "' is not a number");
-    }
-    if (o.threads < 1 || o.threads > 1024) throw InputError("--threads must be in [1, 1024]");
-  }
-  StudyRun run(load_study_settings(positional[0]), o);
-  run.setup();
-  run.run();
-  run.output();
-  std::printf("study %s: report %s/report.md\n", positional[0].c_str(), run.output_directory().c_str());
-  return 0;
 }
 
 }  // namespace grainscale::studies

@@ -11,9 +11,11 @@
 // Layout of the folder and keys of the study file: docs/studies.md.
 #include <fstream>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "studies/study_folder.hpp"
 #include "studies/study_settings.hpp"
 
 namespace grainscale::studies {
@@ -80,12 +82,8 @@ class StudyRun {
   StudySettings s_;
   StudyOptions o_;
   std::string out_;
-  std::ofstream log_;
+  std::optional<StudyFolder> folder_;
   StudyResults results_;
 };
-
-/// The command line: `grainscale study FILE.yaml [--out DIR] [--threads N] [--resume]`.
-int study_command(const std::vector<std::string>& positional, const std::string& out, const std::string& threads,
-                  bool resume);
 
 }  // namespace grainscale::studies

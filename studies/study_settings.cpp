@@ -28,6 +28,9 @@ StudySettings load_study_settings(const std::string& yaml_file) {
   if (s.name.empty() || s.name.find_first_of("/\\") != std::string::npos) {
     throw InputError(root.where("name") + ": a study name must be a non-empty word without '/'");
   }
+  if (root.string_or("kind", "platform") != "platform") {
+    throw InputError(root.where("kind") + ": this reader takes platform studies only (study_kinds.hpp)");
+  }
   s.title = root.string_or("title", s.name);
   s.description = root.string_or("description", "");
 

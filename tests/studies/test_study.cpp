@@ -10,6 +10,7 @@
 #include "continuum/settings.hpp"
 #include "dem/input_error.hpp"
 #include "studies/fit_command.hpp"
+#include "studies/study_kinds.hpp"
 #include "studies/study_run.hpp"
 #include "tests/temp_dir.hpp"
 
@@ -41,8 +42,8 @@ particles:
      region: {min: [0.005, 0.003, 0.003], max: [0.295, 0.027, 0.045]}}
 output: {directory: unused, snapshot_interval: 0.05, progress_interval: 100}
 )");
-  fs::copy_file(kStudies + "/platform_quick/cg.yaml", dir / "cg.yaml");
-  fs::copy_file(kStudies + "/platform_quick/continuum.yaml", dir / "continuum.yaml");
+  fs::copy_file(kStudies + "/platform_quick/cg.yaml", dir / "cg.yaml", fs::copy_options::overwrite_existing);
+  fs::copy_file(kStudies + "/platform_quick/continuum.yaml", dir / "continuum.yaml", fs::copy_options::overwrite_existing);
   write_text(dir / "study.yaml", R"(name: reduced
 title: "Reduced default study"
 dem: {scenario: scenario.yaml}
@@ -143,6 +144,26 @@ TEST_CASE("Bad study files name the file and the key before anything runs", "[st
   fails_with("", "flow_to", "flow_from: 0.1}", "flow_from: 0.1, flow_to: 0.05}");
   fails_with("", "end", "end: 60", "end: -1");
   fails_with("", "name", "name: reduced", "name: a/b");
+}
+
+TEST_CASE("A study file's kind picks its runner; an unknown kind names the file, the key and the kinds", "[study][input]") {
+  TempDir dir("study_kind");
+  write_reduced_study(dir);
+  CHECK(std::string(studies::study_kind_of(dir / "study.yaml").name) == "platform");
+  write_reduced_study(dir, "kind: platform\n");
+  CHECK(std::string(studies::study_kind_of(dir / "study.yaml").name) == "platform");
+  CHECK_NOTHROW(studies::load_study_settings(dir / "study.yaml"));
+  write_reduced_study(dir, "kind: nonsense\n");
+  try {
+    studies::study_kind_of(dir / "study.yaml");
+    FAIL("no error for an unknown kind");
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    INFO(what);
+    CHECK(what.find("study.yaml") != std::string::npos);
+    CHECK(what.find("kind") != std::string::npos);
+    CHECK(what.find("platform") != std::string::npos);
+  }
 }
 
 TEST_CASE("grainscale COMMAND --help prints that command's usage", "[study][cli]") {
