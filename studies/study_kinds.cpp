@@ -4,6 +4,8 @@
 
 #include "dem/input_error.hpp"
 #include "dem/yaml_map.hpp"
+#include "studies/hold_study.hpp"
+#include "studies/loop_study.hpp"
 
 namespace grainscale::studies {
 
@@ -23,6 +25,8 @@ const std::vector<StudyKind>& study_kinds() {
   // One line per kind.
   static const std::vector<StudyKind> kinds = {
       {"platform", "DEM -> coarse-graining -> fit -> prediction -> report, one container", run_platform_study},
+      {"hold", "hold scenarios (grainscale hold) compared: chaff build-up at the end walls, cost, ranking", hold_study_runner},
+      {"loop", "grainscale loop on measured data: fit, residual, ranked effects, error before/after", loop_study_runner},
   };
   return kinds;
 }

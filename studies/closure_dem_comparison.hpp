@@ -1,0 +1,41 @@
+#pragma once
+// Issue 8: "the closure reproduces the coarse-grained DEM flow of the platform box (free-surface angle
+// and surface speed over a cycle) - report the error - before it is trusted at large scale".
+//
+// The DEM side: a `grainscale cg` fields.h5 with one frame per snapshot on an (x, z) grid in the box's
+// own frame (docs/coarsegrain_layout.md). Per frame, the free-surface height per column (the cg
+// `surface_height` field) gives the surface's slope in the box frame by least squares over the columns
+// that hold grain; with the box's tilt θ(t) from the DEM scenario's motion that is the free-surface
+// angle to the horizontal, β_h = θ + atan(dh/dx). The surface speed is the mass-weighted mean of u_x
+// over the cells within one flowing-layer depth of each column's surface, averaged over the columns.
+// The closure side: ShallowGranularFlow (continuum/closure/) on the same box, pivot and motion, filled
+// to the DEM's mean surface height at the first compared frame, with the bed friction of a listed hold
+// scenario; the same two measures from its h(x) and u_s(x) (the surface speed is the mean over the
+// flowing layer of u_s e^{-ζ/ℓ}, as the DEM's). Errors: RMS and max over the frames.
+#include <string>
+#include <vector>
+
+#include "studies/hold_settings.hpp"
+
+namespace grainscale::studies {
+
+struct ClosureDemComparison {
+  std::string cg_fields, dem_scenario, material_from;
+  double box_length = 0, fill_height = 0, flowing_layer = 0;  // [m]
+  std::vector<double> times;                            // compared frames [s]
+  std::vector<double> tilt_deg;                         // the box's tilt [deg]
+  std::vector<double> dem_angle_deg, closure_angle_deg; // free-surface angle to the horizontal [deg]
+  std::vector<double> dem_speed, closure_speed;         // surface speed along the box [m/s]
+  double angle_rms_error_deg = 0, angle_max_error_deg = 0;
+  double speed_rms_error = 0, speed_max_error = 0, dem_speed_rms = 0;
+  std::vector<std::string> figures;  // written into the folder given, names relative to it
+  std::vector<std::string> notes;    // what limits the comparison
+};
+
+/// Throws InputError naming the file for a fields file without surface heights or velocities, a
+/// scenario without the container's motion, or fewer than 2 frames with grain.
+ClosureDemComparison compare_closure_with_dem(const std::string& cg_fields, const std::string& dem_scenario,
+                                              const std::string& container, const HoldSettings& material,
+                                              const std::string& folder);
+
+}  // namespace grainscale::studies

@@ -1,0 +1,183 @@
+// `kind: hold` studies (studies/hold_study*.cpp): a reduced variant (two small rocking boxes and a box
+// too gently tilted to flow, shortened by the study file) runs end to end and its report has every
+// section; a bed that never flows keeps the end enrichment at exactly 1; the report's measured
+// coverage pair is turned into the visible-chaff ratio ln(0.4)/ln(0.9); bad study files name the file
+// and the key; `grainscale study` reaches the hold runner through the file's kind.
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+
+#include "dem/input_error.hpp"
+#include "studies/hold_study.hpp"
+#include "studies/hold_study_report.hpp"
+#include "studies/study_kinds.hpp"
+#include "tests/temp_dir.hpp"
+
+using namespace grainscale;
+using grainscale::testing::slurp;
+using grainscale::testing::TempDir;
+using grainscale::testing::write_text;
+namespace fs = std::filesystem;
+
+namespace {
+
+/// A 0.4 m box with 30 mm of grain rocked about its floor centre (as tests/studies/test_hold.cpp):
+/// it flows every half cycle when `amplitude_deg` is 30, never at 2 (below the 15° floor friction).
+std::string box_yaml(const std::string& name, double amplitude_deg, const std::string& resolve = "all") {
+  return "name: " + name + "\n" +
+         "container: {length: 0.4, depth: 0.1, fill_height: 0.03, pivot: [0.2, 0], nx: 32}\n"
+         "motion: {type: sinusoids, pitch: {amplitude_deg: " + std::to_string(amplitude_deg) + ", period: 4}}\n"
+         "material: {internal_friction_deg: 25, basal_friction_deg: 15, delta_mu: 0.26, grain_diameter: 3.0e-3,\n"
+         "           flowing_layer_diameters: 3}\n"
+         "chaff:\n"
+         "  window: 0.03\n"
+         "  nz: 8\n"
+         "  initial: 0.05\n"
+         "  terms:\n"
+         "    advection: {limiter: van_leer}\n"
+         "    segregation: {S: 2.0e-4, limiter: van_leer}\n"
+         "    shear_diffusion: {C: 0.04, d: 3.0e-3}\n"
+         "time: {end: 400, outputs: 10, resolve: " + resolve + "}\n"
+         "output: {folder: unused, end_zone: 0.05, top_layer: 0.005, spear_depth: 0.03}\n";
+}
+
+void write_reduced(const TempDir& dir, const std::string& scenarios_extra = "", const std::string& extra = "") {
+  write_text(dir / "rocking.yaml", box_yaml("rocking", 30));
+  write_text(dir / "rocking_long.yaml", box_yaml("rocking_long", 30, "12"));
+  write_text(dir / "still.yaml", box_yaml("still", 2));
+  write_text(dir / "study.yaml", "kind: hold\nname: reduced_hold\n"
+                                 "scenarios:\n"
+                                 "  - {file: still.yaml, end: 20}\n"
+                                 "  - {file: rocking.yaml, end: 40, compare_with_report: true}\n"
+                                 "  - {file: rocking_long.yaml, end: 80}\n" +
+                                     scenarios_extra + "output: {directory: out}\n" + extra);
+}
+
+}  // namespace
+
+TEST_CASE("The reduced hold study runs every scenario and reports every section", "[study][hold]") {
+  TempDir dir("hold_study");
+  write_reduced(dir);
+  const studies::HoldStudySettings s = studies::load_hold_study_settings(dir / "study.yaml");
+  REQUIRE(s.scenarios.size() == 3);
+  CHECK(s.scenarios[1].shortened);
+  CHECK(s.scenarios[1].settings.t_end == 40);
+  CHECK(s.scenarios[1].settings.resolved_chunks == 10);  // "all" stays all
+  CHECK(s.scenarios[2].settings.resolved_chunks == 12);  // 12 of 20: then the averaged model
+  std::string report_path;
+  const studies::HoldStudyResults r = studies::run_hold_study(s, studies::StudyOptions{}, report_path);
+  const std::string out = dir / "out";
+  REQUIRE(report_path == fs::path(out + "/report.md").lexically_normal().string());
+  const std::string report = slurp(report_path);
+  for (const char* section : {"## What was run", "## Warnings", "## Summary: scenarios ranked by predicted congregation",
+                              "Verdict:", "## Scenario 1: still", "## Scenario 2: rocking", "## Scenario 3: rocking_long",
+                              "Chaff build-up over time", "## Cost: one day of motion", "## Comparison with the measurements",
+                              "## Closure vs DEM", "## Limits"}) {
+    INFO(section);
+    CHECK(report.find(section) != std::string::npos);
+  }
+  for (const char* png : {"rocking/surface_chaff.png", "rocking/end_fractions.png", "rocking/chaff_map.png",
+                          "rocking/spear.png", "rocking/surface.png", "still/spear.png"}) {
+    INFO(png);
+    CHECK(fs::exists(out + "/" + png));
+    CHECK(report.find(std::string("](") + png + ")") != std::string::npos);
+  }
+  CHECK(fs::exists(out + "/log.txt"));
+  CHECK(fs::exists(out + "/inputs/study.yaml"));
+  CHECK(fs::exists(out + "/inputs/rocking.yaml"));
+  CHECK(fs::exists(out + "/rocking_long/summary.yaml"));
+
+  REQUIRE(r.scenarios.size() == 3);
+  const auto& still = r.scenarios[0];
+  const auto& rocking = r.scenarios[1];
+  const auto& longer = r.scenarios[2];
+  CHECK(rocking.times.back() == Approx(40));
+  CHECK(longer.averaged);
+  CHECK_FALSE(rocking.averaged);
+  // A bed that never yields carries nothing: the chaff stays as loaded, so E = 1 and the surface
+  // concentration at the ends equals the loading value (exact: no flux at all).
+  CHECK(still.closure_steps > 0);
+  CHECK(still.enrichment_left == Approx(1).margin(1e-12));
+  CHECK(still.enrichment_right == Approx(1).margin(1e-12));
+  CHECK(still.surface_right.back() == Approx(0.05).margin(1e-12));
+  CHECK(still.dirty.empty());
+  // The rocking box moves chaff (and conserves it); the still box ranks below it.
+  CHECK(std::fabs(rocking.enrichment() - 1) > 1e-3);
+  CHECK(std::fabs(rocking.chaff_relative_change) < 1e-9);
+  CHECK(std::fabs(longer.chaff_relative_change) < 1e-9);
+  CHECK(report.find("the least in `still`") != std::string::npos);
+  // Shortened scenarios are warned about; the uniform share is the zones' share of the window.
+  CHECK(report.find("shortened by the study file to 40 s") != std::string::npos);
+  CHECK(rocking.uniform_left == Approx(0.05 * 0.005 / (0.4 * 0.03)).epsilon(0.05));
+  CHECK(report.find("Verdict for `rocking`") != std::string::npos);
+  CHECK(report.find("Verdict for `still`") == std::string::npos);
+}
+
+TEST_CASE("The report's coverage pair means 8.7 times the visible chaff at the ends", "[study][hold]") {
+  // coverage = 1 - exp(-k m): m_end / m_centre = ln(1 - 0.6) / ln(1 - 0.1), whatever k is.
+  CHECK(studies::report_visible_chaff_ratio() == Approx(8.6967).epsilon(1e-4));
+  for (double k : {1.0, 37.0, 500.0}) {
+    const double m_centre = -std::log(1 - 0.1) / k, m_end = m_centre * studies::report_visible_chaff_ratio();
+    CHECK(1 - std::exp(-k * m_end) == Approx(0.6).epsilon(1e-12));
+  }
+}
+
+TEST_CASE("Bad hold study files name the file and the key", "[study][hold][input]") {
+  TempDir dir("hold_study_bad");
+  auto fails_with = [&](const std::string& scenarios_extra, const std::string& extra, const std::string& file,
+                        const std::string& needle, const std::string& from = "", const std::string& to = "") {
+    write_reduced(dir, scenarios_extra, extra);
+    if (!from.empty()) {
+      std::string text = slurp(dir / "study.yaml");
+      const auto at = text.find(from);
+      REQUIRE(at != std::string::npos);
+      text.replace(at, from.size(), to);
+      write_text(dir / "study.yaml", text);
+    }
+    try {
+      studies::load_hold_study_settings(dir / "study.yaml");
+      FAIL("no error for: " << scenarios_extra << extra << to);
+    } catch (const InputError& e) {
+      const std::string what = e.what();
+      INFO(what);
+      CHECK(what.find(file) != std::string::npos);
+      CHECK(what.find(needle) != std::string::npos);
+    }
+  };
+  fails_with("", "extra_key: 1\n", "study.yaml", "extra_key");
+  fails_with("  - {file: rocking.yaml, ends: 5}\n", "", "study.yaml", "scenarios[3].ends");
+  fails_with("  - {file: missing.yaml}\n", "", "study.yaml", "scenarios[3].file");
+  fails_with("", "", "study.yaml", "scenarios", "scenarios:\n  - {file: still.yaml, end: 20}\n  - {file: rocking.yaml, end: 40, "
+             "compare_with_report: true}\n  - {file: rocking_long.yaml, end: 80}\n", "scenarios: []\n");
+  fails_with("", "", "study.yaml", "scenarios[0].end", "end: 20}", "end: 500}");  // beyond the file's 400 s
+  fails_with("", "", "study.yaml", "scenarios[0].end", "end: 20}", "end: 0}");
+  fails_with("  - {file: rocking.yaml}\n", "", "study.yaml", "already used");
+  fails_with("", "validate: {cg_fields: still.yaml, dem_scenario: still.yaml, material_from: nowhere}\n", "study.yaml",
+             "validate.material_from");
+  fails_with("", "validate: {cg_fields: none.h5, dem_scenario: still.yaml, material_from: still}\n", "study.yaml",
+             "validate.cg_fields");
+  // An error inside a listed scenario names that scenario's file.
+  write_text(dir / "broken.yaml", box_yaml("broken", 30) + "typo_key: 1\n");
+  fails_with("  - {file: broken.yaml}\n", "", "broken.yaml", "typo_key");
+}
+
+TEST_CASE("grainscale study reaches the hold runner through the kind key", "[study][hold][cli]") {
+  TempDir dir("hold_study_cli");
+  write_reduced(dir);
+  CHECK(studies::study_kind_of(dir / "study.yaml").run == &studies::hold_study_runner);
+  // The binary: an empty scenario list is the hold reader's error (exit status 2 for input errors).
+  write_text(dir / "empty.yaml", "kind: hold\nname: empty\nscenarios: []\noutput: {directory: out}\n");
+  FILE* p = popen((std::string(GRAINSCALE_BINARY) + " study " + (dir / "empty.yaml") + " 2>&1").c_str(), "r");
+  REQUIRE(p != nullptr);
+  std::string text;
+  char buf[512];
+  while (std::fgets(buf, sizeof buf, p)) text += buf;
+  const int status = pclose(p);
+  INFO(text);
+  CHECK(WEXITSTATUS(status) == 2);
+  CHECK(text.find("empty.yaml") != std::string::npos);
+  CHECK(text.find("'scenarios'") != std::string::npos);
+  CHECK(text.find("empty") != std::string::npos);
+}
