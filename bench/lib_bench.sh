@@ -1,0 +1,151 @@
+# Shared helpers of the benchmark scripts (sourced, not run): run_clump_bed.sh, run_scaling.sh,
+# run_platform_rate.sh. (run_box_settle.sh predates it and keeps its own copy.)
+# Before sourcing, set BENCH_NAME (message prefix). Provides:
+#   HERE ROOT NCPU HZ; die say; need_grainscale (sets GS); need_liggghts (sets LIGGGHTS, MPIRUN);
+#   busy_jiffies other_cpu_percent wait_idle (IDLE_WAIT, IDLE_MAX); run_logged LOG CMD...;
+#   yaml_with FILE OUT KEY=VALUE... (a copy of a scenario with keys replaced, paths made absolute).
+
+HERE="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
+ROOT="$(cd "$HERE/.." && pwd)"
+IDLE_WAIT="${IDLE_WAIT:-600}"
+IDLE_MAX="${IDLE_MAX:-10}"
+NCPU="$(nproc)"
+HZ="$(getconf CLK_TCK)"
+
+die() { echo "${BENCH_NAME:-bench}: error: $*" >&2; exit 1; }
+say() { echo "[${BENCH_NAME:-bench}] $*" >&2; }
+
+command -v python3 >/dev/null || die "python3 is needed to read the logs"
+[[ -x /usr/bin/time ]] || die "/usr/bin/time is needed (apt-get install time)"
+
+# grainscale: BUILD_DIR (default build/) is configured and built (target grainscale) if the executable
+# is missing; GRAINSCALE=/path/to/grainscale uses that executable instead.
+need_grainscale() {
+  local bd="${BUILD_DIR:-$ROOT/build}"
+  [[ "$bd" = /* ]] || bd="$ROOT/$bd"
+  GS="${GRAINSCALE:-$bd/studies/grainscale}"
+  if [[ ! -x "$GS" ]]; then
+    [[ -z "${GRAINSCALE:-}" ]] || die "GRAINSCALE=$GRAINSCALE is not an executable"
+    say "grainscale not built; building into $bd (cmake -DCMAKE_BUILD_TYPE=Release, target grainscale)"
+    (cd "$ROOT" && cmake -S . -B "$bd" -DCMAKE_BUILD_TYPE=Release && cmake --build "$bd" -j"$NCPU" --target grainscale) \
+      || die "grainscale build failed"
+  fi
+  [[ -x "$GS" ]] || die "no executable at $GS"
+  say "grainscale: $GS ($("$GS" version 2>/dev/null || echo 'version unknown'))"
+}
+
+# LIGGGHTS from Debian, installed if missing; MPIRUN=(mpirun [--allow-run-as-root]) when it is MPI-built
+need_liggghts() {
+  find_liggghts() {
+    local c
+    for c in liggghts lmp_debian liggghts-mpi; do
+      if command -v "$c" >/dev/null 2>&1; then command -v "$c"; return 0; fi
+    done
+    return 1
+  }
+  if ! LIGGGHTS="$(find_liggghts)"; then
+    say "LIGGGHTS not found; installing the Debian package 'liggghts'"
+    local sudo=""
+    if [[ "$(id -u)" -ne 0 ]]; then
+      command -v sudo >/dev/null || die "not root and no sudo: install LIGGGHTS with 'apt-get install -y liggghts'"
+      sudo="sudo"
+    fi
+    $sudo apt-get update -q || die "apt-get update failed"
+    DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -q liggghts || die "apt-get install liggghts failed"
+    LIGGGHTS="$(find_liggghts)" || die "liggghts installed but no liggghts executable on PATH"
+  fi
+  say "LIGGGHTS: $LIGGGHTS ($(dpkg-query -W -f='${Version}' liggghts 2>/dev/null || echo 'version unknown'))"
+  MPIRUN=()
+  # (grep -c, not grep -q: under pipefail an early-exiting grep kills ldd with SIGPIPE)
+  if [[ $(ldd "$LIGGGHTS" 2>/dev/null | grep -c libmpi) -gt 0 ]]; then
+    if command -v mpirun >/dev/null 2>&1; then
+      MPIRUN=(mpirun)
+      if mpirun --version 2>&1 | grep -c 'Open MPI' >/dev/null && [[ "$(id -u)" -eq 0 ]]; then
+        MPIRUN+=(--allow-run-as-root)
+      fi
+    else
+      say "warning: liggghts is MPI-built but mpirun is missing; only 1 process will be run"
+    fi
+  else
+    say "warning: liggghts is not MPI-built; only 1 process will be run"
+  fi
+}
+
+busy_jiffies() {  # busy and total jiffies of all CPUs
+  awk '/^cpu /{b=$2+$3+$4+$7+$8+$9; print b, b+$5+$6}' /proc/stat
+}
+
+other_cpu_percent() {  # % of all CPUs busy over 2 s (call while none of ours is running)
+  local a b
+  a=($(busy_jiffies)); sleep 2; b=($(busy_jiffies))
+  echo $(( 100 * (b[0] - a[0]) / (b[1] - a[1] > 0 ? b[1] - a[1] : 1) ))
+}
+
+# waits up to IDLE_WAIT s until other processes use at most IDLE_MAX % of the CPUs (IDLE_WAIT=0: never)
+wait_idle() {
+  local waited=0 p
+  (( IDLE_WAIT > 0 )) || return 0
+  while :; do
+    p="$(other_cpu_percent)"
+    if (( p <= IDLE_MAX )); then return 0; fi
+    if (( waited >= IDLE_WAIT )); then
+      say "warning: the machine is still ${p}% busy with other work after ${waited} s; timing anyway (figures will be low)"
+      return 0
+    fi
+    if (( waited == 0 )); then say "waiting for other processes to finish (CPU ${p}% busy; up to ${IDLE_WAIT} s) ..."; fi
+    sleep 8; waited=$(( waited + 10 ))
+  done
+}
+
+# run_logged LOG CMD...: runs CMD with stdout+stderr to LOG; writes to LOG.load the wall time, own CPU,
+# own peak resident memory (of the largest process) and the CPU that other processes used meanwhile
+run_logged() {
+  local log="$1"; shift
+  local a b t0 t1 rc=0
+  a=($(busy_jiffies)); t0="$(date +%s.%N)"
+  /usr/bin/time -f 'OWN_CPU_S %U %S MAXRSS_KB %M' -o "$log.cpu" "$@" >"$log" 2>&1 || rc=$?
+  t1="$(date +%s.%N)"; b=($(busy_jiffies))
+  python3 - "$log" "$t0" "$t1" "${a[0]}" "${b[0]}" "$HZ" <<'PY'
+import sys
+log, t0, t1, a, b, hz = sys.argv[1], float(sys.argv[2]), float(sys.argv[3]), int(sys.argv[4]), int(sys.argv[5]), int(sys.argv[6])
+own, rss = 0.0, 0
+try:
+    for line in open(log + ".cpu"):
+        if line.startswith("OWN_CPU_S"):
+            w = line.split(); own = float(w[1]) + float(w[2]); rss = int(w[4])
+except (OSError, IndexError, ValueError):
+    pass
+wall = t1 - t0
+other = max(0.0, ((b - a) / hz - own) / wall) if wall > 0 else 0.0
+open(log + ".load", "w").write(f"wall_s {wall:.2f} own_cpu_s {own:.2f} maxrss_kb {rss} other_cores {other:.2f}\n")
+PY
+  return $rc
+}
+
+# yaml_with SRC DST KEY=VALUE ...: copy scenario SRC to DST with the first `KEY: value` outside comments
+# replaced for each KEY (scalars only, e.g. end=0.05 count=500),
+# and the materials/shape/file paths made absolute, so DST runs from any folder.
+yaml_with() {
+  local src="$1" dst="$2"; shift 2
+  python3 - "$src" "$dst" "$@" <<'PY' || die "could not write $2 from $1"
+import os, re, sys
+src, dst, subs = sys.argv[1], sys.argv[2], sys.argv[3:]
+base = os.path.dirname(os.path.abspath(src))
+def absolute(m):
+    p = m.group(2)
+    return m.group(1) + (p if os.path.isabs(p) else os.path.normpath(os.path.join(base, p)))
+todo = dict(s.split("=", 1) for s in subs)
+lines = []
+for line in open(src).read().split("\n"):
+    code, hash_, comment = line.partition("#")          # leave comments alone
+    code = re.sub(r"((?:materials|shape|file):\s*)([^\s,}]+)", absolute, code)
+    for k in list(todo):
+        code, n = re.subn(r"(\b" + re.escape(k) + r":\s*)([^\s,}]+)", lambda m: m.group(1) + todo[k], code, count=1)
+        if n: del todo[k]
+    lines.append(code + hash_ + comment)
+if todo:
+    sys.exit(f"keys {sorted(todo)} not found in {src}")
+t = "\n".join(lines)
+open(dst, "w").write(t)
+PY
+}
