@@ -5,6 +5,7 @@ checkpoint.h5; layout: docs/checkpoint_layout.md), read through libhdf5 with cty
 Usage: h5_state.py CHECKPOINT.h5 [--area A_m2] [--density RHO]
 Prints one line of `key value` pairs:
   time_s dt_s skin_m spheres bodies mass_kg ekin_J (translational + rotational) zmax_m (highest sphere centre) zmean_m (mean body centre)
+  pours_done D/P (if the scenario pours: pours finished / pours)
 and, with --area (floor area of the box) and --density (particle material):
   height_m = 2 x zmean (bed height of a level bed whose centres fill it evenly)
   phi = (mass / density) / (area x height_m), the bulk solid fraction.
@@ -55,6 +56,14 @@ def dataset(f, name):
     return list(buf)
 
 
+def dataset_if(f, name):
+    h5.H5Lexists.argtypes = [hid, ctypes.c_char_p, hid]
+    group = name.rsplit("/", 1)[0]
+    if group and h5.H5Lexists(f, group.encode(), 0) <= 0:
+        return None
+    return dataset(f, name) if h5.H5Lexists(f, name.encode(), 0) > 0 else None
+
+
 def attribute(f, name):
     a = h5.H5Aopen(f, name.encode(), 0)
     if a < 0:
@@ -93,6 +102,9 @@ def main():
         "zmax_m": f"{max(sz):.6g}" if sz else "nan",
         "zmean_m": f"{sum(bz) / len(bz):.6g}" if bz else "nan",
     }
+    done = dataset_if(f, "/scenario/pour_done")
+    if done:
+        out["pours_done"] = f"{int(sum(done))}/{len(done)}"
     if "area" in opts and "density" in opts and bz:
         height = 2 * sum(bz) / len(bz)
         out["height_m"] = f"{height:.6g}"

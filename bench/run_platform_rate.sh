@@ -1,0 +1,102 @@
+#!/usr/bin/env bash
+# The 2x platform box figure (issue 11): the time step grainscale chooses for studies/platform_800mm/
+# and the simulated seconds per wall-clock hour, from a short timed segment. See bench/README.md.
+#   bench/run_platform_rate.sh
+# The study's DEM scenario (studies/platform_800mm/scenario.yaml: 3.5 kg of 2x wheat clumps poured at
+# 5 kg/s with 32.5 g of 2x chaff flakes, ~60,000 spheres, box_mesh container on the report's platform
+# profile) is copied with time.end = POURED and the platform's start_time = POURED, so the state after
+# the pour is the study's own (its tilting starts at 2.0 s, after a longer rest) and the timed steps
+# run with the platform moving. The pour is run once (untimed) and kept as a checkpoint in OUT; later
+# calls reuse it (FRESH=1 pours again). Then STEPS steps are timed on each of THREADS.
+# Environment knobs (all optional):
+#   POURED=0.8       s simulated: end of the pour (grain 0.7 s at 5 kg/s, chaff until 0.35 s); the script
+#                    stops if a pour is unfinished then
+#   STEPS=5000       timed steps (5000 x 10 us = 0.05 s simulated)
+#   THREADS=1,2      OpenMP thread counts (one bench process, all from the same poured state)
+#   REPEATS=2        timed bench runs; the fastest per thread count is reported
+#   IDLE_WAIT=600 IDLE_MAX=10   wait for an idle machine before each timed run (IDLE_WAIT=0: don't)
+#   BUILD_DIR=build  GRAINSCALE=path   which grainscale (built if missing)
+#   OUT=bench/out/platform
+# Cost of the untimed pour: ~80,000 steps with up to ~60,000 spheres (~2.5e9 sphere-steps: about
+# 10 minutes at 4 M sphere-steps/s). Quick check of the script (a partial pour, few steps):
+#   POURED=0.002 ALLOW_UNFINISHED=1 STEPS=50 REPEATS=1 IDLE_WAIT=0 bench/run_platform_rate.sh
+set -euo pipefail
+BENCH_NAME=platform
+source "$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)/lib_bench.sh"
+
+SRC="$ROOT/studies/platform_800mm/scenario.yaml"
+OUT="${OUT:-$HERE/out/platform}"
+POURED="${POURED:-0.8}"
+STEPS="${STEPS:-5000}"
+THREADS="${THREADS:-1,2}"
+REPEATS="${REPEATS:-2}"
+FRESH="${FRESH:-0}"
+ALLOW_UNFINISHED="${ALLOW_UNFINISHED:-0}"
+[[ -f "$SRC" ]] || die "missing $SRC"
+mkdir -p "$OUT"
+OUT="$(cd "$OUT" && pwd)"
+need_grainscale
+rm -f "$OUT"/timed_r*.log* "$OUT/results.txt"
+
+SCEN="$OUT/platform_800mm_poured.yaml"
+yaml_with "$SRC" "$SCEN" "end=$POURED" "start_time=$POURED"
+CKPT="$OUT/poured_${POURED}.h5"
+if [[ "$FRESH" == 1 ]]; then rm -f "$CKPT"; fi
+if [[ -f "$CKPT" ]]; then
+  say "poured state from $CKPT (FRESH=1 to pour again)"
+else
+  say "pouring the platform_800mm scenario to t = $POURED s (untimed; progress in $OUT/pour.log) -> $CKPT"
+  run_logged "$OUT/pour.log" "$GS" bench "$SCEN" --steps 1 --threads 1 --settled "$CKPT" \
+    || die "the pour failed; see $OUT/pour.log"
+fi
+python3 "$HERE/h5_state.py" "$CKPT" >"$OUT/poured.txt" || die "could not read $CKPT"
+say "poured state: $(cat "$OUT/poured.txt")"
+read -r DONE < <(python3 -c "
+w = open('$OUT/poured.txt').read().split(); s = dict(zip(w[0::2], w[1::2]))
+d, p = s.get('pours_done', '0/1').split('/'); print(1 if d == p else 0)")
+if [[ "$DONE" != 1 && "$ALLOW_UNFINISHED" != 1 ]]; then
+  die "a pour is unfinished at t = $POURED s ($(cat "$OUT/poured.txt")); raise POURED (and FRESH=1)"
+fi
+
+for r in $(seq 1 "$REPEATS"); do
+  wait_idle
+  log="$OUT/timed_r${r}.log"
+  say "timed run $r: $STEPS steps on $THREADS thread(s), platform moving -> $log"
+  run_logged "$log" "$GS" bench "$SCEN" --steps "$STEPS" --threads "$THREADS" --settled "$CKPT" \
+    || die "bench failed; see $log"
+  grep -E '^threads' "$log" >&2 || die "no 'threads N:' line in $log"
+done
+
+python3 - "$OUT" "$REPEATS" "$SRC" <<'PY' | tee "$OUT/results.txt"
+import re, sys
+out, repeats, src = sys.argv[1], int(sys.argv[2]), sys.argv[3]
+w = open(f"{out}/poured.txt").read().split(); s = dict(zip(w[0::2], w[1::2]))
+dt = float(s["dt_s"])
+frac = re.search(r"step_fraction:\s*([0-9.]+)", open(src).read())
+best, problem, mem = {}, "", ""
+for r in range(1, repeats + 1):
+    t = open(f"{out}/timed_r{r}.log").read()
+    problem = problem or (re.search(r"^problem: .*$", t, re.M) or [""])[0]
+    mem = mem or (re.search(r"^memory: .*$", t, re.M) or [""])[0]
+    try:
+        other = dict(zip(*[iter(open(f"{out}/timed_r{r}.log.load").read().split())] * 2)).get("other_cores", "?")
+    except OSError:
+        other = "?"
+    for m in re.finditer(r"^threads (\d+): (\d+) steps in ([0-9.]+) s = ([0-9.]+) M sphere-steps/s", t, re.M):
+        th, steps, sec, rate = int(m.group(1)), int(m.group(2)), float(m.group(3)), float(m.group(4))
+        if th not in best or sec < best[th][1]:
+            best[th] = (steps, sec, rate, other)
+print(f"platform_800mm (2x, studies/platform_800mm/scenario.yaml), poured state at t = {s['time_s']} s: "
+      f"{s['bodies']} clumps, {s['spheres']} spheres, {float(s['mass_kg']):.4f} kg, pours finished {s.get('pours_done', '?')}")
+print(f"time step: {dt:.4g} s (automatic: step_fraction {frac.group(1) if frac else '?'} of the Rayleigh time of the "
+      f"smallest sphere, a chaff flake's), skin {float(s['skin_m']) * 1000:.3g} mm")
+print(problem); print(mem)
+print(f"{'threads':>7} {'steps':>6} {'wall s':>8} {'M sph-st/s':>10} {'sim s / wall h':>14} {'1800 s takes':>12} {'other load':>10}")
+for th in sorted(best):
+    steps, sec, rate, other = best[th]
+    per_hour = steps * dt / sec * 3600
+    print(f"{th:>7} {steps:>6} {sec:8.2f} {rate:10.3f} {per_hour:14.3f} {1800 / per_hour / 24:10.1f} d {other:>10}")
+print("(best of the repeats; timed with the platform moving, from the poured, not yet fully settled, bed; other load:")
+print(" cores used by other processes meanwhile, > 0.2 disturbs the figure)")
+PY
+say "logs and results.txt in $OUT"
