@@ -12,12 +12,18 @@
 // to the DEM's mean surface height at the first compared frame, with the bed friction of a listed hold
 // scenario; the same two measures from its h(x) and u_s(x) (the surface speed is the mean over the
 // flowing layer of u_s e^{-ζ/ℓ}, as the DEM's). Errors: RMS and max over the frames.
+// "Agrees" (this study's bar, not a published one): surface angle within kAngleTolerance RMS and
+// surface speed within kSpeedTolerance of the DEM's RMS surface speed (at least kSpeedFloor) RMS.
 #include <string>
 #include <vector>
 
 #include "studies/hold_settings.hpp"
 
 namespace grainscale::studies {
+
+inline constexpr double kAngleTolerance = 1.0;   // deg
+inline constexpr double kSpeedTolerance = 0.5;   // of the DEM's RMS surface speed
+inline constexpr double kSpeedFloor = 0.01;      // m/s: below this the DEM bed counts as still
 
 struct ClosureDemComparison {
   std::string cg_fields, dem_scenario, material_from;
@@ -28,7 +34,8 @@ struct ClosureDemComparison {
   std::vector<double> dem_speed, closure_speed;         // surface speed along the box [m/s]
   double angle_rms_error_deg = 0, angle_max_error_deg = 0;
   double speed_rms_error = 0, speed_max_error = 0, dem_speed_rms = 0;
-  std::vector<std::string> figures;  // written into the folder given, names relative to it
+  bool agrees = false;
+  std::vector<std::string> figures;  // written into the folder given (with comparison.csv), names relative to it
   std::vector<std::string> notes;    // what limits the comparison
 };
 

@@ -1,0 +1,120 @@
+// The closure-vs-DEM comparison (studies/closure_dem_comparison.cpp) on synthetic coarse-grained
+// fields whose answers are known in closed form: a planar bed surface at slope s in the box frame and a
+// uniform surface speed U, in the default study's box on its platform motion (studies/platform_quick/
+// scenario.yaml). The DEM measures must be tilt − atan(s) and U; the closure, started from the same
+// bed with friction far above the tilt, must stay exactly at rest (same angle, zero speed), so the
+// errors are 0° and U.
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <filesystem>
+#include <string>
+
+#include "coarsegrain/field_file.hpp"
+#include "dem/input_error.hpp"
+#include "studies/closure_dem_comparison.hpp"
+#include "tests/temp_dir.hpp"
+
+using namespace grainscale;
+using grainscale::testing::TempDir;
+using grainscale::testing::write_text;
+
+namespace {
+
+const std::string kScenario = std::string(GRAINSCALE_SOURCE_DIR) + "/studies/platform_quick/scenario.yaml";
+
+/// Frames at `times` of a 0.3 x 0.03 x 0.1 m box on a 30 x 10 grid: grain (density 800) below
+/// h(x) = h0 + s (x − 0.15), moving at u_x = U.
+void write_fields(const std::string& path, const std::vector<double>& times, double h0, double s, double U) {
+  const cg::Grid g = cg::Grid::make(2, {0, 0, 0}, {0.3, 0.03, 0.1}, {30, 1, 10});
+  std::vector<cg::FieldFrame> frames;
+  for (double t : times) {
+    cg::FieldFrame fr;
+    cg::Fields& f = fr.fields;
+    f.grid = g;
+    f.time = t;
+    f.snapshots = 1;
+    const std::size_t n = g.size();
+    f.mixture.density.assign(n, 0.0);
+    f.mixture.volume_fraction.assign(n, 0.0);
+    f.mixture.number_density.assign(n, 0.0);
+    f.mixture.temperature.assign(n, 0.0);
+    f.mixture.velocity.assign(n, dem::Vec3{NAN, NAN, NAN});
+    f.chaff_volume_concentration.assign(n, 0.0);
+    f.chaff_number_concentration.assign(n, 0.0);
+    f.chaff_mass_concentration.assign(n, 0.0);
+    f.velocity_gradient.assign(n, {});
+    f.shear_rate.assign(n, 0.0);
+    f.chaff_velocity.assign(n, dem::Vec3{0, 0, 0});
+    f.segregation_flux.assign(n, dem::Vec3{0, 0, 0});
+    f.surface_height.assign(30, 0.0);
+    for (int i = 0; i < 30; ++i) {
+      const double h = h0 + s * (g.centre(0, i) - 0.15);
+      f.surface_height[i] = h;
+      for (int k = 0; k < 10; ++k) {
+        if (g.centre(2, k) > h) continue;
+        const std::size_t c = g.index(i, 0, k);
+        f.mixture.density[c] = 800, f.mixture.volume_fraction[c] = 0.6;
+        f.mixture.velocity[c] = {U, 0, 0};
+      }
+    }
+    frames.push_back(fr);
+  }
+  cg::FieldFileInfo info;
+  info.container_wall = "box";
+  cg::write_field_file(path, frames, info);
+}
+
+studies::HoldSettings stiff_material() {
+  studies::HoldSettings m;
+  m.name = "stiff";
+  m.friction.internal_deg = 40, m.friction.basal_deg = 35;  // far above the 14° this test tilts to
+  m.friction.grain_diameter = 6.7e-3, m.friction.layer_depth = 0.02;
+  return m;
+}
+
+}  // namespace
+
+TEST_CASE("Closure vs DEM: a planar DEM surface and a closure bed below its yield give the closed forms",
+          "[study][hold][closure]") {
+  TempDir dir("closure_dem");
+  const double s = 0.05, U = 0.02;
+  // The platform starts at 0.4 s (24°, 0.25 Hz): 0.2 and 0.3 s at rest, then tilting.
+  write_fields(dir / "fields.h5", {0.2, 0.3, 0.9, 1.2, 1.5}, 0.03, s, U);
+  const studies::ClosureDemComparison c =
+      studies::compare_closure_with_dem(dir / "fields.h5", kScenario, "box", stiff_material(), dir / "out");
+  REQUIRE(c.times.size() == 4);  // from the last frame at rest
+  CHECK(c.times.front() == 0.3);
+  CHECK(c.tilt_deg.front() == Approx(0).margin(1e-9));
+  CHECK(c.tilt_deg.back() > 10);
+  CHECK(c.fill_height == Approx(0.03).epsilon(1e-12));
+  for (std::size_t j = 0; j < c.times.size(); ++j) {
+    INFO("t = " << c.times[j]);
+    CHECK(c.dem_angle_deg[j] == Approx(c.tilt_deg[j] - std::atan(s) * 180 / M_PI).margin(1e-9));
+    CHECK(c.closure_angle_deg[j] == Approx(c.dem_angle_deg[j]).margin(1e-9));
+    CHECK(c.dem_speed[j] == Approx(U).epsilon(1e-12));
+    CHECK(c.closure_speed[j] == 0);
+  }
+  CHECK(c.angle_rms_error_deg == Approx(0).margin(1e-9));
+  CHECK(c.speed_rms_error == Approx(U).epsilon(1e-12));
+  CHECK(c.speed_max_error == Approx(U).epsilon(1e-12));
+  CHECK_FALSE(c.agrees);  // U = 2 cm/s against a still closure: more than half the DEM's speed
+  CHECK(std::filesystem::exists(dir / "out/comparison.csv"));
+  CHECK(std::filesystem::exists(dir / "out/surface_angle.png"));
+  // The box is 30 mm (4.5 grain diameters) wide: the report says side-wall friction is missing.
+  bool narrow = false;
+  for (const auto& n : c.notes) narrow = narrow || n.find("side walls") != std::string::npos;
+  CHECK(narrow);
+}
+
+TEST_CASE("Closure vs DEM: bad input names the file", "[study][hold][closure][input]") {
+  TempDir dir("closure_dem_bad");
+  write_text(dir / "not.h5", "not hdf5");
+  CHECK_THROWS_WITH(studies::compare_closure_with_dem(dir / "not.h5", kScenario, "box", stiff_material(), dir / "out"),
+                    Catch::Contains("not.h5"));
+  write_fields(dir / "fields.h5", {0.2, 0.3}, 0.03, 0, 0);  // nothing after the motion starts
+  CHECK_THROWS_WITH(studies::compare_closure_with_dem(dir / "fields.h5", kScenario, "box", stiff_material(), dir / "out"),
+                    Catch::Contains("fewer than 2 frames"));
+  write_fields(dir / "fields.h5", {0.3, 0.9}, 0.03, 0, 0);
+  CHECK_THROWS_WITH(studies::compare_closure_with_dem(dir / "fields.h5", kScenario, "lid", stiff_material(), dir / "out"),
+                    Catch::Contains("no moving wall named 'lid'"));
+}
