@@ -22,13 +22,18 @@ MotionFacts motion_facts(const std::string& file, const std::string& container) 
   }
   if (!wall->motion.profile) throw InputError(file + ": wall '" + wall->name + "' does not move");
   const dem::MotionProfile& m = *wall->motion.profile;
-  MotionFacts f;
+  if (!(m.period() > 0)) throw InputError(file + ": the motion of wall '" + wall->name + "' is not periodic (" + m.describe() + ")");
+  MotionFacts f = cycle_facts(m);
   f.container = wall->name;
-  f.period = m.period();
-  if (!(f.period > 0)) throw InputError(file + ": the motion of wall '" + wall->name + "' is not periodic (" + m.describe() + ")");
   const dem::Vec3 pivot = wall->pose.to_body(wall->motion.pivot);
   f.axis_x = pivot.x;
   f.axis_z = pivot.z;
+  return f;
+}
+
+MotionFacts cycle_facts(const dem::MotionProfile& m) {
+  MotionFacts f;
+  f.period = m.period();
   // Sample one cycle well after any start-up transition.
   const int n = 3600;
   const double t0 = 10 * f.period;

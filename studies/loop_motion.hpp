@@ -5,6 +5,8 @@
 // and the period for the harmonic split of the residual.
 #include <string>
 
+#include "dem/motion_profile.hpp"
+
 namespace grainscale::studies {
 
 struct MotionFacts {
@@ -20,5 +22,9 @@ struct MotionFacts {
 /// empty: the first moving wall. InputError (file, key) if the scenario has no moving wall or no
 /// wall of that name, or the motion is not periodic.
 MotionFacts motion_facts(const std::string& scenario_file, const std::string& container);
+
+/// The cycle facts of a periodic motion alone (period, ⟨ω²⟩, pause fraction, peak angle), sampled
+/// over one cycle well after any start-up transition; container and axis are left empty.
+MotionFacts cycle_facts(const dem::MotionProfile& motion);
 
 }  // namespace grainscale::studies
