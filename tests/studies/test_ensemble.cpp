@@ -284,3 +284,18 @@ TEST_CASE("Bad ensemble study files name the file and the key", "[ensemble][inpu
   fails_with("", "end_time", "seeds: [1, 2]", "seeds: [1, 2]\nend_time: 0.1");
   fails_with("", "question", "question: congregation", "question: maybe");
 }
+
+TEST_CASE("The shipped ensemble studies load with every variant scenario", "[ensemble][input]") {
+  for (const char* f : {"split_2x400.yaml", "scale_check.yaml", "split_2x400_small.yaml", "scale_check_small.yaml"}) {
+    INFO(f);
+    const studies::EnsembleSettings s = studies::load_ensemble_settings(kStudies + "/" + f);
+    CHECK(s.variants.size() == 2);
+    CHECK(s.seeds.size() >= 2);
+    CHECK(std::string(studies::study_kind_of(kStudies + "/" + f).name) == "ensemble");
+  }
+  // The split variant's compartments are the report's two 400 mm halves.
+  const auto c = studies::scenario_compartments(kStudies + "/split_2x400/split.yaml", "box", 0, 0.8);
+  REQUIRE(c.size() == 2);
+  CHECK(c[0].x_hi == Approx(0.4));
+  CHECK(studies::load_ensemble_settings(kStudies + "/scale_check.yaml").aor.has_value());
+}
