@@ -9,9 +9,9 @@
 #include <filesystem>
 #include <string>
 
-#include "coarsegrain/field_file.hpp"
 #include "dem/input_error.hpp"
 #include "studies/closure_dem_comparison.hpp"
+#include "tests/studies/synthetic_cg_fields.hpp"
 #include "tests/temp_dir.hpp"
 
 using namespace grainscale;
@@ -21,48 +21,6 @@ using grainscale::testing::write_text;
 namespace {
 
 const std::string kScenario = std::string(GRAINSCALE_SOURCE_DIR) + "/studies/platform_quick/scenario.yaml";
-
-/// Frames at `times` of a 0.3 x 0.03 x 0.1 m box on a 30 x 10 grid: grain (density 800) below
-/// h(x) = h0 + s (x − 0.15), moving at u_x = U.
-void write_fields(const std::string& path, const std::vector<double>& times, double h0, double s, double U) {
-  const cg::Grid g = cg::Grid::make(2, {0, 0, 0}, {0.3, 0.03, 0.1}, {30, 1, 10});
-  std::vector<cg::FieldFrame> frames;
-  for (double t : times) {
-    cg::FieldFrame fr;
-    cg::Fields& f = fr.fields;
-    f.grid = g;
-    f.time = t;
-    f.snapshots = 1;
-    const std::size_t n = g.size();
-    f.mixture.density.assign(n, 0.0);
-    f.mixture.volume_fraction.assign(n, 0.0);
-    f.mixture.number_density.assign(n, 0.0);
-    f.mixture.temperature.assign(n, 0.0);
-    f.mixture.velocity.assign(n, dem::Vec3{NAN, NAN, NAN});
-    f.chaff_volume_concentration.assign(n, 0.0);
-    f.chaff_number_concentration.assign(n, 0.0);
-    f.chaff_mass_concentration.assign(n, 0.0);
-    f.velocity_gradient.assign(n, {});
-    f.shear_rate.assign(n, 0.0);
-    f.chaff_velocity.assign(n, dem::Vec3{0, 0, 0});
-    f.segregation_flux.assign(n, dem::Vec3{0, 0, 0});
-    f.surface_height.assign(30, 0.0);
-    for (int i = 0; i < 30; ++i) {
-      const double h = h0 + s * (g.centre(0, i) - 0.15);
-      f.surface_height[i] = h;
-      for (int k = 0; k < 10; ++k) {
-        if (g.centre(2, k) > h) continue;
-        const std::size_t c = g.index(i, 0, k);
-        f.mixture.density[c] = 800, f.mixture.volume_fraction[c] = 0.6;
-        f.mixture.velocity[c] = {U, 0, 0};
-      }
-    }
-    frames.push_back(fr);
-  }
-  cg::FieldFileInfo info;
-  info.container_wall = "box";
-  cg::write_field_file(path, frames, info);
-}
 
 studies::HoldSettings stiff_material() {
   studies::HoldSettings m;
@@ -79,7 +37,7 @@ TEST_CASE("Closure vs DEM: a planar DEM surface and a closure bed below its yiel
   TempDir dir("closure_dem");
   const double s = 0.05, U = 0.02;
   // The platform starts at 0.4 s (24°, 0.25 Hz): 0.2 and 0.3 s at rest, then tilting.
-  write_fields(dir / "fields.h5", {0.2, 0.3, 0.9, 1.2, 1.5}, 0.03, s, U);
+  grainscale::testing::write_planar_bed_fields(dir / "fields.h5", {0.2, 0.3, 0.9, 1.2, 1.5}, 0.03, s, U);
   const studies::ClosureDemComparison c =
       studies::compare_closure_with_dem(dir / "fields.h5", kScenario, "box", stiff_material(), dir / "out");
   REQUIRE(c.times.size() == 4);  // from the last frame at rest
@@ -111,10 +69,10 @@ TEST_CASE("Closure vs DEM: bad input names the file", "[study][hold][closure][in
   write_text(dir / "not.h5", "not hdf5");
   CHECK_THROWS_WITH(studies::compare_closure_with_dem(dir / "not.h5", kScenario, "box", stiff_material(), dir / "out"),
                     Catch::Contains("not.h5"));
-  write_fields(dir / "fields.h5", {0.2, 0.3}, 0.03, 0, 0);  // nothing after the motion starts
+  grainscale::testing::write_planar_bed_fields(dir / "fields.h5", {0.2, 0.3}, 0.03, 0, 0);  // nothing after the motion starts
   CHECK_THROWS_WITH(studies::compare_closure_with_dem(dir / "fields.h5", kScenario, "box", stiff_material(), dir / "out"),
                     Catch::Contains("fewer than 2 frames"));
-  write_fields(dir / "fields.h5", {0.3, 0.9}, 0.03, 0, 0);
+  grainscale::testing::write_planar_bed_fields(dir / "fields.h5", {0.3, 0.9}, 0.03, 0, 0);
   CHECK_THROWS_WITH(studies::compare_closure_with_dem(dir / "fields.h5", kScenario, "lid", stiff_material(), dir / "out"),
                     Catch::Contains("no moving wall named 'lid'"));
 }

@@ -2,7 +2,9 @@
 // too gently tilted to flow, shortened by the study file) runs end to end and its report has every
 // section; a bed that never flows keeps the end enrichment at exactly 1; the report's measured
 // coverage pair is turned into the visible-chaff ratio ln(0.4)/ln(0.9); bad study files name the file
-// and the key; `grainscale study` reaches the hold runner through the file's kind.
+// and the key; `grainscale study` reaches the hold runner through the file's kind; with `validate`, the
+// report carries the closure-vs-DEM section (synthetic fields: closed forms in
+// test_closure_dem_comparison.cpp).
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <cstdio>
@@ -13,6 +15,7 @@
 #include "studies/hold_study.hpp"
 #include "studies/hold_study_report.hpp"
 #include "studies/study_kinds.hpp"
+#include "tests/studies/synthetic_cg_fields.hpp"
 #include "tests/temp_dir.hpp"
 
 using namespace grainscale;
@@ -113,6 +116,31 @@ TEST_CASE("The reduced hold study runs every scenario and reports every section"
   CHECK(rocking.uniform_left == Approx(0.05 * 0.005 / (0.4 * 0.03)).epsilon(0.05));
   CHECK(report.find("Verdict for `rocking`") != std::string::npos);
   CHECK(report.find("Verdict for `still`") == std::string::npos);
+}
+
+TEST_CASE("A hold study with validate reports the closure against the coarse-grained DEM", "[study][hold][closure]") {
+  TempDir dir("hold_study_validate");
+  grainscale::testing::write_planar_bed_fields(dir / "fields.h5", {0.3, 0.9, 1.5}, 0.03, 0.05, 0.02);
+  write_text(dir / "still.yaml", box_yaml("still", 2));
+  write_text(dir / "study.yaml", "kind: hold\nname: validated\nscenarios:\n  - {file: still.yaml, end: 8}\n"
+                                 "validate: {cg_fields: fields.h5, dem_scenario: " + std::string(GRAINSCALE_SOURCE_DIR) +
+                                     "/studies/platform_quick/scenario.yaml, material_from: still}\n"
+                                 "output: {directory: out}\n");
+  std::string report_path;
+  const studies::HoldStudyResults r =
+      studies::run_hold_study(studies::load_hold_study_settings(dir / "study.yaml"), studies::StudyOptions{}, report_path);
+  REQUIRE(r.validation);
+  CHECK(r.validation->times.size() == 3);
+  CHECK(r.validation->speed_rms_error == Approx(0.02).epsilon(1e-9));  // a still closure against 2 cm/s
+  const std::string report = slurp(report_path);
+  for (const char* text : {"## Closure vs DEM", "| free-surface angle |", "| surface speed |", "**does not reproduce**",
+                           "](closure_vs_dem/surface_angle.png)", "](closure_vs_dem/surface_speed.png)", "3 frames from t = 0.3 s",
+                           "this study compares it with coarse-grained DEM"}) {
+    INFO(text);
+    CHECK(report.find(text) != std::string::npos);
+  }
+  CHECK(fs::exists(dir / "out/closure_vs_dem/comparison.csv"));
+  CHECK(fs::exists(dir / "out/inputs/scenario.yaml"));
 }
 
 TEST_CASE("The report's coverage pair means 8.7 times the visible chaff at the ends", "[study][hold]") {
