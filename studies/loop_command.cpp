@@ -140,8 +140,10 @@ LoopResult run_loop(const LoopSettings& s) {
   res.diagnosis_before = diagnose(probe.grid(), residual_points(probe.grid(), res.data, res.base.prediction), s.diagnosis);
 
   // (3) Each candidate on top of the base, starting from the base optimum.
+  // A base parameter the data drove to zero starts the candidates' fits at kRanToZero.
   std::vector<std::pair<std::string, double>> base_values;
-  for (std::size_t j = 0; j < res.base.parameters.size(); ++j) base_values.push_back({res.base.parameters[j], res.base.values[j]});
+  for (std::size_t j = 0; j < res.base.parameters.size(); ++j)
+    base_values.push_back({res.base.parameters[j], std::max(res.base.values[j], kRanToZero)});
   Problem cp = pr;
   cp.fit.max_iterations = s.candidate_iterations;
   for (const Candidate& c : s.candidates) {
@@ -170,7 +172,20 @@ LoopResult run_loop(const LoopSettings& s) {
     }
     std::cout << "loop: candidate " << c.name << " ..." << std::flush;
     res.candidates.push_back(evaluate(c.name, {model, observation}, params, cp));
-    const Evaluation& e = res.candidates.back();
+    Evaluation& e = res.candidates.back();
+    if (!c.term) {
+      // Coverage sees the top delta through the cells it overlaps: while the top cell is thicker
+      // than delta, coverage depends on kappa * delta only, and the fit cannot tell them apart.
+      const continuum::Grid& g = probe.grid();
+      double top = INFINITY;
+      for (int i = 0; i < g.nx(); ++i) top = std::min(top, g.dsigma() * g.h_column(i));
+      const double delta = base_observation().parameters().get("delta");
+      if (top >= delta) {
+        e.warnings.push_back("the top cell (" + std::to_string(1e3 * top) + " mm) is not thinner than the assumed delta (" +
+                             std::to_string(1e3 * delta) +
+                             " mm): coverage depends on kappa * delta only there; use a grid with cells thinner than delta");
+      }
+    }
     std::printf(" %s (%.1f s)\n", e.ok ? ("CV error " + std::to_string(e.cv_error)).c_str() : e.error.c_str(), e.seconds);
   }
   std::stable_sort(res.candidates.begin(), res.candidates.end(), [](const Evaluation& a, const Evaluation& b) {
@@ -192,7 +207,7 @@ LoopResult run_loop(const LoopSettings& s) {
       const double gain = 1 - (e.cv_error * e.cv_error) / (res.base.cv_error * res.base.cv_error), dbic = e.bic - res.base.bic;
       bool constrained = true;
       for (std::size_t p = fit.fit.parameters.size(); p < e.parameters.size(); ++p)
-        constrained = constrained && e.standard_errors[p] < e.values[p] && e.values[p] > 0;
+        constrained = constrained && e.standard_errors[p] < e.values[p] && e.values[p] > 0 && !e.at_bound[p];
       if (gain >= s.min_cv_gain && dbic <= -s.bic_drop && constrained) {
         res.chosen = static_cast<int>(j);
         why << e.name << " has the lowest cross-validated error that is justified: CV error " << e.cv_error << " vs "
@@ -203,13 +218,15 @@ LoopResult run_loop(const LoopSettings& s) {
       if (j == 0) {
         why << "the best candidate by CV error, " << e.name << ", is not justified (held-out chi2 " << 100 * gain
             << " % lower, needs " << 100 * s.min_cv_gain << " %; BIC change " << dbic << ", needs <= " << -s.bic_drop
-            << (constrained ? "" : "; its strength is not constrained") << ")";
+            << (constrained ? "" : "; its strength is not constrained (standard error not below it, or at a bound)") << ")";
       }
     }
     if (res.chosen < 0) {
       const bool any = std::any_of(res.candidates.begin(), res.candidates.end(),
                                    [](const Evaluation& e) { return e.ok && std::isfinite(e.cv_error); });
-      if (!any) why << "no candidate could be cross-validated (every fold leaves too few observations for its parameters)";
+      const bool fitted = std::any_of(res.candidates.begin(), res.candidates.end(), [](const Evaluation& e) { return e.ok; });
+      if (!fitted) why << "no candidate could be fitted (see each one's error)";
+      else if (!any) why << "no candidate could be cross-validated (every fold leaves too few observations for its parameters)";
       why << "; no candidate meets the criteria, so none is added";
     }
   }

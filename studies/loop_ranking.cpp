@@ -24,6 +24,23 @@ void set(Model& m, SurfaceCoverage& o, const std::string& name, double v) {
   else m.set_parameter(name, v);
 }
 
+/// The admissible range of a parameter ("term.name", a name unique among the terms, or
+/// "observation.name").
+std::pair<double, double> admissible(const Model& m, const SurfaceCoverage& o, const std::string& name) {
+  if (is_observation(name)) {
+    for (const auto& p : o.parameters().all())
+      if (p.name == name.substr(12)) return {p.valid_lo, p.valid_hi};
+  }
+  const auto dot = name.find('.');
+  const std::string term = dot == std::string::npos ? "" : name.substr(0, dot), par = name.substr(dot == std::string::npos ? 0 : dot + 1);
+  for (const continuum::FluxTerm* t : m.terms()) {
+    if (!term.empty() && t->name() != term) continue;
+    for (const auto& p : t->parameters().all())
+      if (p.name == par) return {p.valid_lo, p.valid_hi};
+  }
+  return {-INFINITY, INFINITY};
+}
+
 /// The observations of block `held_out` (held = true) or of every other block (held = false).
 Observations subset(const Observations& data, const std::vector<int>& fold, int held_out, bool held) {
   Observations s = data;
@@ -116,7 +133,13 @@ Evaluation evaluate(const std::string& name, const ModelFactory& factory, const 
     ev.bic = fit_term + ev.k * std::log(static_cast<double>(ev.n));
     if (!ev.fit.converged) ev.warnings.push_back("the fit did not converge (GSL: " + ev.fit.status + ")");
     for (std::size_t j = 0; j < parameters.size(); ++j) {
-      if (!(ev.values[j] / start[j] > 1e-6)) {
+      const double hi = admissible(model, obs, parameters[j]).second;
+      ev.at_bound.push_back(ev.values[j] >= hi * (1 - 1e-3));
+      if (ev.at_bound.back()) {
+        ev.warnings.push_back(parameters[j] + " ran to the upper end of its admissible range (" + std::to_string(hi) +
+                              "): the fit is pressed against a bound, so its standard error means nothing and the term "
+                              "stands in for something else");
+      } else if (!(ev.values[j] / start[j] > 1e-6)) {
         ev.warnings.push_back(parameters[j] + " ran to " + std::to_string(ev.values[j]) + ": the data do not need it");
       } else if (!(ev.standard_errors[j] < ev.values[j])) {
         ev.warnings.push_back(parameters[j] + ": standard error not below the value (unconstrained)");
@@ -135,7 +158,7 @@ Evaluation evaluate(const std::string& name, const ModelFactory& factory, const 
       if (n_train <= parameters.size()) continue;
       Model m = factory.model();
       SurfaceCoverage o = factory.observation();
-      for (std::size_t j = 0; j < parameters.size(); ++j) set(m, o, parameters[j], ev.values[j]);
+      for (std::size_t j = 0; j < parameters.size(); ++j) set(m, o, parameters[j], std::max(ev.values[j], kRanToZero));
       (void)fit_observations(m, o, pr.start, train, cvs);
       held.add(predict(m, o, pr.start, data.times, cvs.integrator), test);
       ++ev.cv_folds;

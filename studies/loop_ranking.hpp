@@ -27,6 +27,11 @@
 
 namespace grainscale::studies {
 
+/// Where a fit restarts a parameter that the data drove to zero: on log-parameters its logarithm
+/// runs off and exp underflows to exactly 0, from which no fit can start. 1e-200 of its unit is
+/// still negligible for any coefficient here, and a fit can climb back from it if the data ask.
+inline constexpr double kRanToZero = 1e-200;
+
 struct CvSettings {
   std::string by = "auto";  // time | x | auto (time if there are at least `blocks` observation times)
   int blocks = 4;
@@ -43,6 +48,9 @@ struct Evaluation {
   std::vector<std::string> parameters;
   continuum::FitResult fit;          // full-data fit
   std::vector<double> values, standard_errors;
+  /// Per parameter: the fit ended at the edge of its admissible range (e.g. lever_arm.S at 1 m):
+  /// pressed against a bound, its standard error says nothing about its uncertainty.
+  std::vector<bool> at_bound;
   Prediction prediction;             // at the full-data optimum
   double chi2 = 0, aic = 0, bic = 0;
   int n = 0, k = 0;

@@ -297,7 +297,7 @@ std::vector<std::string> write_loop_outputs(const LoopSettings& s, const FitComm
   m << "## 3. Candidate effects, ranked by blocked cross-validation\n\n"
     << "Each candidate is fitted together with the base parameters, from the base optimum. CV: " << s.cv.blocks << " "
     << r.base.cv_by << " blocks, each held out in turn. Justified: held-out chi2 at least " << s4(100 * s.min_cv_gain)
-    << " % below the base's, BIC at least " << s4(s.bic_drop) << " below, strength constrained.\n\n"
+    << " % below the base's, BIC at least " << s4(s.bic_drop) << " below, strength constrained (standard error below it, not at the edge of its admissible range).\n\n"
     << "| rank | candidate | fitted strength | CV error | dAIC | dBIC | iterations | s | notes |\n|---|---|---|---|---|---|---|---|---|\n"
     << "| 0 | base | - | " << s4(r.base.cv_error) << " | 0 | 0 | " << r.base.fit.iterations << " | " << s4(r.base.seconds) << " | |\n";
   for (std::size_t j = 0; j < r.candidates.size(); ++j) {
