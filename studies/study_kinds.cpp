@@ -4,6 +4,7 @@
 
 #include "dem/input_error.hpp"
 #include "dem/yaml_map.hpp"
+#include "studies/trial_planning_study.hpp"
 #include "studies/ensemble_run.hpp"
 #include "studies/hold_study.hpp"
 #include "studies/loop_study.hpp"
@@ -26,6 +27,7 @@ const std::vector<StudyKind>& study_kinds() {
   // One line per kind.
   static const std::vector<StudyKind> kinds = {
       {"platform", "DEM -> coarse-graining -> fit -> prediction -> report, one container", run_platform_study},
+      {"trial_planning", "sweep of trial designs with the hold-scale model: congregation ranking, trials that discriminate the loop's variants", run_trial_planning_study},
       {"ensemble", "variants x seeds of a DEM experiment: congregation index, bulk density, surface flow, chaff per slice, AOR; differences with intervals", run_ensemble_study},
       {"hold", "hold scenarios (grainscale hold) compared: chaff build-up at the end walls, cost, ranking", hold_study_runner},
       {"loop", "grainscale loop on measured data: fit, residual, ranked effects, error before/after", loop_study_runner},
