@@ -209,6 +209,12 @@ for log in sorted(glob.glob(f"{out}/grainscale_t*_r*.log")) + sorted(glob.glob(f
     x = (gs_run if "grainscale" in os.path.basename(log) else lg_run)(log)
     if x:
         print(f"  {os.path.basename(log):24} {x['rate'] / 1e6:8.3f} M sphere-steps/s in {x['s']:.2f} s   other load {load(log).get('other_cores', '?')} cores")
+print("end of the timed steps (the same state for every count of a code: a run that disagrees misbehaved):")
+for log in sorted(glob.glob(f"{out}/liggghts_np*_r*.log")):
+    m = re.search(r"^TIMED atoms (\d+) bodies (\S+) ekin_J (\S+) zmean_m (\S+) contacts (\S+)", open(log).read(), re.M)
+    if m:
+        print(f"  {os.path.basename(log):24} KE {float(m.group(3)):.4g} J, mean centre height {1000 * float(m.group(4)):.2f} mm, "
+              f"{int(float(m.group(5)))} contacts")
 
 print()
 print("settled state (before the timed steps): height = 2 x mean clump-centre z, phi = (mass / density) / (floor x height)")
