@@ -89,8 +89,32 @@ std::vector<double> mean_by(const TrialPlanSettings& s, const NumericAxis& a, co
   return out;
 }
 
-void write_figures(const TrialPlanSettings& s, const TrialSweepResult& r, const std::vector<TrialScore>& ranked,
+/// The motion with the most designs (the first such): the line plots and the heat map show its designs
+/// only, so that averages do not mix motions.
+std::string main_motion(const TrialPlanSettings& s) {
+  std::map<std::string, int> count;
+  std::string best;
+  for (const auto& d : s.designs) {
+    if (++count[d.motion] > count[best]) best = d.motion;
+  }
+  return best;
+}
+
+/// The settings with only the main motion's designs (indices into the results kept).
+TrialPlanSettings main_designs(const TrialPlanSettings& s) {
+  TrialPlanSettings m = s;
+  m.designs.clear();
+  const std::string name = main_motion(s);
+  for (const auto& d : s.designs) {
+    if (d.motion == name) m.designs.push_back(d);
+  }
+  return m;
+}
+
+void write_figures(const TrialPlanSettings& all_designs, const TrialSweepResult& r, const std::vector<TrialScore>& ranked,
                    const std::vector<TrialScore>& recommended, const std::string& out, std::vector<std::string>& warnings) {
+  const TrialPlanSettings s = main_designs(all_designs);
+  const std::string which = swept(all_designs, "motion") ? " (" + main_motion(all_designs) + ")" : "";
   const std::size_t nv = s.variants.size();
   auto ratio = [&](std::size_t v) { return [&r, v](int d) { return r.cases[d][v].ratio; }; };
   std::map<int, double> score_of;
@@ -103,10 +127,10 @@ void write_figures(const TrialPlanSettings& s, const TrialSweepResult& r, const 
     }
   };
   for (const NumericAxis& a : numeric_axes()) {
-    if (!swept(s, a.key)) continue;
     const std::vector<double> vals = values_of(s, a);
+    if (vals.size() < 2) continue;
     LinePlot p;
-    p.axes.title = "Predicted congregation (end/centre coverage) vs " + a.label;
+    p.axes.title = "Predicted congregation" + which + " vs " + a.label;
     p.axes.x_label = a.label;
     p.axes.y_label = "end / centre coverage";
     for (std::size_t v = 0; v < nv; ++v) {
@@ -118,7 +142,7 @@ void write_figures(const TrialPlanSettings& s, const TrialSweepResult& r, const 
     safe_draw(p, "congregation_" + a.key + ".png");
 
     LinePlot q;
-    q.axes.title = "How well a trial separates the variants vs " + a.label;
+    q.axes.title = "How well a trial" + which + " separates the variants vs " + a.label;
     q.axes.x_label = a.label;
     q.axes.y_label = "score (" + s.discrimination.score + " pairwise separation / sigma)";
     q.axes.y_min = 0;
@@ -137,7 +161,8 @@ void write_figures(const TrialPlanSettings& s, const TrialSweepResult& r, const 
                         {s.discrimination.min_separation, s.discrimination.min_separation}, LineStyle::dashed});
     safe_draw(q, "discrimination_" + a.key + ".png");
   }
-  if (swept(s, "motion")) {
+  if (swept(all_designs, "motion")) {
+    const TrialPlanSettings& s = all_designs;
     std::vector<std::string> names;
     for (const auto& d : s.designs) {
       if (std::find(names.begin(), names.end(), d.motion) == names.end()) names.push_back(d.motion);
@@ -167,13 +192,13 @@ void write_figures(const TrialPlanSettings& s, const TrialSweepResult& r, const 
   std::vector<const NumericAxis*> two;
   for (const NumericAxis& a : numeric_axes()) {
     const bool chosen = std::find(s.heat_map.begin(), s.heat_map.end(), a.key) != s.heat_map.end();
-    if (s.heat_map.empty() ? swept(s, a.key) && two.size() < 2 : chosen) two.push_back(&a);
+    if (s.heat_map.empty() ? values_of(s, a).size() >= 2 && two.size() < 2 : chosen) two.push_back(&a);
   }
   if (two.size() == 2 && !s.heat_map.empty() && s.heat_map[0] != two[0]->key) std::swap(two[0], two[1]);
-  if (two.size() == 2) {
+  if (two.size() == 2 && values_of(s, *two[0]).size() >= 2 && values_of(s, *two[1]).size() >= 2) {
     const std::vector<double> xv = values_of(s, *two[0]), yv = values_of(s, *two[1]);
     HeatMap h;
-    h.axes.title = "Predicted congregation (" + s.variants[0].name + "), mean over the other variables";
+    h.axes.title = "Predicted congregation" + which + ", " + s.variants[0].name + ", mean over the other variables";
     h.axes.x_label = two[0]->label;
     h.axes.y_label = two[1]->label;
     h.x_edges = edges_around(xv);
@@ -427,11 +452,14 @@ std::string write_trial_report(const TrialPlanSettings& s, const TrialSweepResul
     m << " |\n";
   }
   m << "\n";
+  const std::string which = swept(s, "motion") ? " (designs of motion " + main_motion(s) + ")" : "";
   for (const NumericAxis& a : numeric_axes()) {
-    if (swept(s, a.key)) m << figure(out, "congregation_" + a.key + ".png", "Congregation vs " + a.label);
+    if (fs::exists(fs::path(out) / ("congregation_" + a.key + ".png"))) {
+      m << figure(out, "congregation_" + a.key + ".png", "Congregation vs " + a.label + which + ": mean per value, and each design");
+    }
   }
   if (swept(s, "motion")) m << figure(out, "congregation_motion.png", "Congregation by motion");
-  m << figure(out, "congregation_map.png", "Congregation over two swept variables (reference variant)");
+  m << figure(out, "congregation_map.png", "Congregation over two swept variables" + which + ", reference variant");
 
   m << "## 3. Model variants compared\n\n";
   if (!s.loop_file.empty()) {
@@ -526,7 +554,9 @@ std::string write_trial_report(const TrialPlanSettings& s, const TrialSweepResul
                     std::to_string(k + 1) + " (points: zone means)");
   }
   for (const NumericAxis& a : numeric_axes()) {
-    if (swept(s, a.key)) m << figure(out, "discrimination_" + a.key + ".png", "Discrimination score vs " + a.label);
+    if (fs::exists(fs::path(out) / ("discrimination_" + a.key + ".png"))) {
+      m << figure(out, "discrimination_" + a.key + ".png", "Discrimination score vs " + a.label + which);
+    }
   }
 
   m << "## Limits\n\n"
