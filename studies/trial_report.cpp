@@ -198,7 +198,7 @@ void write_figures(const TrialPlanSettings& all_designs, const TrialSweepResult&
   if (two.size() == 2 && values_of(s, *two[0]).size() >= 2 && values_of(s, *two[1]).size() >= 2) {
     const std::vector<double> xv = values_of(s, *two[0]), yv = values_of(s, *two[1]);
     HeatMap h;
-    h.axes.title = "Predicted congregation" + which + ", " + s.variants[0].name + ", mean over the other variables";
+    h.axes.title = "Congregation" + which + ", " + s.variants[0].name;
     h.axes.x_label = two[0]->label;
     h.axes.y_label = two[1]->label;
     h.x_edges = edges_around(xv);
