@@ -75,10 +75,17 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
                                           const std::vector<Wall>& walls, double dt) {
   const std::size_t n = p.size();
   const std::size_t entries = nl.entries();
-  pair_force_.resize(entries);
-  pair_torque_i_.resize(entries);
-  pair_torque_j_.resize(entries);
+  pair_.resize(entries);
   resize(n);
+  if (list_generation_ != nl.generation() || touching_.size() != entries) {
+    // A new list: flag every entry whose carried-over history is non-zero (then cleared if apart).
+    touching_.resize(entries);
+    for (std::size_t k = 0; k < entries; ++k) {
+      const ContactHistory& h = nl.history(static_cast<std::uint32_t>(k));
+      touching_[k] = norm2(h.shear) != 0 || norm2(h.rolling) != 0;
+    }
+    list_generation_ = nl.generation();
+  }
 
   std::size_t contacts = 0, wall_contacts = 0;
   double worst_ratio = 0, stiff_pair = 0;  // stiff_*: max S_n / m* (for the omega dt monitor)
@@ -94,12 +101,15 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
       const Vec3 d = xi - p.x[j];
       const double rsum = ri + p.radius[j];
       const double dist2 = norm2(d);
-      ContactHistory& h = nl.history(k);
       if (dist2 >= rsum * rsum) {
-        h = {};  // contact broken (or never made): history starts afresh next time
-        pair_force_[k] = pair_torque_i_[k] = pair_torque_j_[k] = {};
+        if (touching_[k]) {  // contact broken: history starts afresh next time
+          nl.history(k) = {};
+          touching_[k] = 0;
+        }
         continue;
       }
+      ContactHistory& h = nl.history(k);
+      touching_[k] = 1;
       ++contacts;
       const double dist = std::sqrt(dist2);
       ContactKinematics c;
@@ -122,9 +132,7 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
       Vec3 ti, tj;
       Rolling::evaluate(m.rolling[pair], c, f, h, ti, tj);
       const Vec3 nxft = cross(c.n, f.tangential);
-      pair_force_[k] = f.force;
-      pair_torque_i_[k] = ti - c.lever_i * nxft;
-      pair_torque_j_[k] = tj - c.lever_j * nxft;
+      pair_[k] = {f.force, ti - c.lever_i * nxft, tj - c.lever_j * nxft};
       worst_ratio = std::max(worst_ratio, c.overlap / std::min(ri, p.radius[j]));
       stiff_pair = std::max(stiff_pair, f.stiffness / c.m_eff);
     }
@@ -142,13 +150,15 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
   for (std::size_t i = 0; i < n; ++i) {
     Vec3 f{}, t{};
     for (std::uint32_t k = nl.begin(i); k < nl.end(i); ++k) {
-      f += pair_force_[k];
-      t += pair_torque_i_[k];
+      if (!touching_[k]) continue;
+      f += pair_[k].force;
+      t += pair_[k].torque_i;
     }
     for (std::uint32_t r = nl.rev_begin(i); r < nl.rev_end(i); ++r) {
       const std::uint32_t k = nl.rev_entry(r);
-      f -= pair_force_[k];
-      t += pair_torque_j_[k];
+      if (!touching_[k]) continue;
+      f -= pair_[k].force;
+      t += pair_[k].torque_j;
     }
 
     // Wall contacts; histories found by (wall, feature) among last step's contacts of this particle.
@@ -290,7 +300,7 @@ ContactEnergy ForceField::contact_energy(const Particles& p, const NeighborList&
 }
 
 std::size_t ForceField::bytes() const {
-  return (pair_force_.capacity() + pair_torque_i_.capacity() + pair_torque_j_.capacity()) * sizeof(Vec3) +
+  return pair_.capacity() * sizeof(PairRecord) + touching_.capacity() +
          (wall_slots_.capacity() + wall_scratch_.capacity()) * sizeof(WallSlot);
 }
 

@@ -133,6 +133,7 @@ void NeighborList::build(Particles& p, double skin, const std::vector<std::uint3
 #pragma omp parallel for if(n >= parallel_min_items()) schedule(static)
   for (std::size_t i = 0; i < n; ++i) p.x_at_build[i] = p.x[i];
   ++builds_;
+  ++generation_;
 }
 
 void NeighborList::index_partners(std::size_t n) {
@@ -177,6 +178,7 @@ void NeighborList::restore(const Particles& p, double skin, std::vector<std::uin
   history_ = std::move(history);
   skin_ = skin;
   builds_ = builds;
+  ++generation_;
   index_partners(n);
 }
 

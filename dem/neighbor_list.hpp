@@ -46,6 +46,9 @@ class NeighborList {
   const ContactHistory& history(std::uint32_t k) const { return history_[k]; }
   std::size_t entries() const { return partner_.size(); }
   std::size_t builds() const { return builds_; }
+  /// Changes whenever the entries change (build or restore); never saved. Lets per-entry data kept
+  /// elsewhere (the force field's contact flags) know when to rebuild itself.
+  std::uint64_t generation() const { return generation_; }
   double skin() const { return skin_; }
 
   /// The list as built, in CSR form (entries of slot i are [starts()[i], starts()[i+1])), and each
@@ -81,6 +84,7 @@ class NeighborList {
   std::vector<std::uint32_t> rev_start_, rev_entry_, rev_fill_;
   double skin_ = 0;
   std::size_t builds_ = 0;
+  std::uint64_t generation_ = 0;
 };
 
 }  // namespace grainscale::dem
