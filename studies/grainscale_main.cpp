@@ -223,13 +223,15 @@ int run_bench(const Args& a) {
     omp_set_num_threads(threads);
     dem::Simulation copy = *sim;
     copy.run_steps(200);  // warm caches and buffers
+    const std::size_t builds0 = copy.neighbors().builds();
     const auto t0 = std::chrono::steady_clock::now();
     copy.run_steps(static_cast<std::uint64_t>(a.steps));
     const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     const double rate = static_cast<double>(a.steps) * copy.particles().size() / s;
     if (base == 0) base = rate;
-    std::printf("threads %d: %ld steps in %.3f s = %.3f M sphere-steps/s (%.2fx of first), %.3g contacts/s\n", threads,
-                a.steps, s, rate / 1e6, rate / base, static_cast<double>(copy.diagnostics().contacts) * a.steps / s);
+    std::printf("threads %d: %ld steps in %.3f s = %.3f M sphere-steps/s (%.2fx of first), %.3g contacts/s, "
+                "%zu neighbour-list builds\n", threads, a.steps, s, rate / 1e6, rate / base,
+                static_cast<double>(copy.diagnostics().contacts) * a.steps / s, copy.neighbors().builds() - builds0);
   }
   return 0;
 }
