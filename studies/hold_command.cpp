@@ -22,6 +22,10 @@ int hold_command(const std::vector<std::string>& positional, const std::string& 
   std::printf("hold run in %.3g s (%ld resolved cycles of %.3g s%s); closure steps %ld, chaff steps %ld\n",
               r.wall_seconds, r.resolved_chunks, s.chunk, r.averaged.back() ? ", then the cycle-averaged model" : "",
               r.closure_steps, r.chaff_steps);
+  if (r.averaged.back()) {
+    std::printf("averaged model (%s): %ld steps in %.3g s (stiffest cell rate %.3g /s)\n", r.averaged_integrator.c_str(),
+                r.averaged_steps, r.averaged_wall_seconds, r.averaged_max_rate);
+  }
   std::printf("chaff %.6g -> %.6g m^2 (relative change %.2g); c in [%.4g, %.4g]\n", r.chaff_initial, r.chaff_final,
               r.chaff_initial > 0 ? (r.chaff_final - r.chaff_initial) / r.chaff_initial : 0.0, r.c_min, r.c_max);
   std::printf("share of chaff in the top %.3g m within %.3g m of the ends: left %.4g, right %.4g\n", s.top_layer,

@@ -145,7 +145,12 @@ HoldFiles write_hold_output(const HoldSettings& s, const HoldModel& model, const
     y << "# grainscale hold run summary\nname: " << s.name << "\nsimulated_time_s: " << num(r.times.back())
       << "\nresolved_cycles: " << r.resolved_chunks << "\ncycle_s: " << num(s.chunk)
       << "\naveraged_model_used: " << (r.averaged.back() ? "true" : "false") << "\nclosure_steps: " << r.closure_steps
-      << "\nchaff_steps: " << r.chaff_steps << "\nwall_clock_s: " << num(r.wall_seconds)
+      << "\nchaff_steps: " << r.chaff_steps;
+    if (r.averaged.back()) {
+      y << "\naveraged_model: {integrator: " << r.averaged_integrator << ", steps: " << r.averaged_steps
+        << ", wall_clock_s: " << num(r.averaged_wall_seconds) << ", stiffest_rate_per_s: " << num(r.averaged_max_rate) << "}";
+    }
+    y << "\nwall_clock_s: " << num(r.wall_seconds)
       << "\nchaff_initial_m2: " << num(r.chaff_initial) << "\nchaff_final_m2: " << num(r.chaff_final)
       << "\nchaff_relative_change: " << num(r.chaff_initial > 0 ? (r.chaff_final - r.chaff_initial) / r.chaff_initial : 0)
       << "\nc_range: [" << num(r.c_min) << ", " << num(r.c_max) << "]\nend_top_fraction_left: " << num(out.left_fraction)

@@ -45,6 +45,10 @@ class HoldModel {
   const continuum::closure::FlowSample& average() const { return average_; }
   long closure_steps() const { return closure_.steps(); }
   long chaff_steps() const;
+  /// Steps of the averaged model so far, and its largest cell rate Σ(|V|/2 + K)/A [1/s] (an explicit
+  /// step needs dt · this ≤ cfl): the stiffness the implicit integrator steps over.
+  long averaged_steps() const { return averaged_ ? chaff_steps() - averaged_steps_before_ : 0; }
+  double averaged_max_rate() const { return averaged_max_rate_; }
 
  private:
   void build_model(std::shared_ptr<const continuum::closure::FlowRecord> record);
@@ -57,6 +61,8 @@ class HoldModel {
   std::unique_ptr<continuum::Model> model_;
   std::unique_ptr<continuum::TimeIntegrator> integrator_;
   long chaff_steps_done_ = 0;
+  long averaged_steps_before_ = 0;
+  double averaged_max_rate_ = 0;
   std::vector<double> c_;
   double t_ = 0;
   long chunks_ = 0;
@@ -74,6 +80,10 @@ struct HoldResult {
   std::vector<std::vector<double>> surface;       // closure h per time (cells) [m]
   std::vector<int> averaged;                      // 1 where the time was reached by the averaged model
   long resolved_chunks = 0, closure_steps = 0, chaff_steps = 0;
+  long averaged_steps = 0;          // of chaff_steps, those of the averaged model
+  double averaged_max_rate = 0;     // its stiffest cell [1/s]
+  double averaged_wall_seconds = 0; // wall clock of the averaged model
+  std::string averaged_integrator;  // its integrator's name
   double wall_seconds = 0, chaff_initial = 0, chaff_final = 0, c_min = 0, c_max = 0;
   std::vector<double> average_speed, average_abs_speed;  // ⟨u_s⟩, ⟨|u_s|⟩ at faces (if averaged)
 };

@@ -83,6 +83,13 @@ HoldSettings load_hold_settings(const std::string& file) {
       s.integrator.max_dt = im->number_or("max_dt", 0.0, Range::non_negative());
       im->finish();
     }
+    if (auto im = ch.optional_map("averaged_integrator")) {
+      s.averaged_integrator.method = im->choice_or("method", "cvode", {"cvode", "ssp_rk3"});
+      s.averaged_integrator.cfl = im->number_or("cfl", 0.4, Range{0, 1, true, false});
+      s.averaged_integrator.rtol = im->number_or("rtol", 1e-6, Range{0, 0.1, true, false});
+      s.averaged_integrator.atol = im->number_or("atol", 1e-9, Range{0, 0.1, true, false});
+      im->finish();
+    }
     ch.finish();
   }
   // The flow changes within a cycle faster than an explicit step sized at its start can see.

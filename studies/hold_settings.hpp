@@ -35,6 +35,9 @@ struct HoldSettings {
   double chaff_initial = 0;  // uniform chaff volume fraction at t = 0
   std::vector<std::pair<std::string, YAML::Node>> terms;
   continuum::IntegratorSettings integrator{"ssp_rk3"};  // max_dt defaults to chunk / 100
+  // The cycle-averaged slow-time model: steady and linear, its stiffness set by the fitted drift and
+  // dispersion of the most mobile face, not by accuracy; BDF (cvode) steps over it (hold_run.hpp).
+  continuum::IntegratorSettings averaged_integrator{"cvode"};
   // Time.
   double t_end = 0;
   int outputs = 0;

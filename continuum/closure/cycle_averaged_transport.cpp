@@ -36,6 +36,12 @@ void CycleFluxSampler::end_cycle() {
 
 namespace {
 
+/// A face's cycle-mean difference c_R − c_L must exceed this fraction of its mean concentration
+/// (rms over the cycles) for K to be fitted. Chosen from the full Handysize hold: below 1e-5 the
+/// fitted K scattered over 5 decades (to 0.56 m²/s at b/a = 2e-8, against a median of 1e-7 and a
+/// largest 2.5e-4 m²/s in the flowing surface layer, where b/a ~ 0.1).
+constexpr double kMinResolvedDifference = 1e-5;
+
 /// Least squares of y ≈ V a − K b; K ≥ |V|/2 afterwards.
 void regress(const std::vector<double>& a, const std::vector<double>& b, const std::vector<double>& y, double& V,
              double& K) {
@@ -45,8 +51,11 @@ void regress(const std::vector<double>& a, const std::vector<double>& b, const s
   }
   const double det = aa * bb - ab * ab;
   // Over a few cycles c changes little, so a and b are nearly collinear and K is not identified:
-  // then the drift alone (with the monotone minimum dispersion |V|/2, i.e. upwind).
-  if (det > 1e-2 * (aa * bb) && det > 0) {
+  // then the drift alone (with the monotone minimum dispersion |V|/2, i.e. upwind). K is also not
+  // identified where the difference across the face is unresolved (kMinResolvedDifference): there
+  // y, a and b all drift slowly together over the averaged cycles and K fits that common trend
+  // (the static core of the full Handysize hold: b/a ~ 1e-8 gave K = 0.56 m²/s, a rate of 90 /s).
+  if (det > 1e-2 * (aa * bb) && det > 0 && bb > kMinResolvedDifference * kMinResolvedDifference * aa) {
     V = (bb * ay - ab * by) / det;
     K = (ab * ay - aa * by) / det;  // from V aa − K ab = ay, V ab − K bb = by
   } else {

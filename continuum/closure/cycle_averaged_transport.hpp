@@ -10,8 +10,9 @@
 //
 // V [m²/s per unit concentration] is the face's drift (the rectified transport the oscillating flow
 // and segregation produce, which the Eulerian mean of the flow misses), K [m²/s] its dispersion.
-// Least squares per face over the cycles; K is raised to at least |V|/2 so that the flux is monotone
-// (upwind plus added dispersion) and c stays in [0, 1]. Boundary faces carry no flux, so chaff is
+// Least squares per face over the cycles; K is fitted only where it is identifiable (a and b not
+// collinear, and b resolved: rms b ≥ 1e-5 rms a), and raised to at least |V|/2 so that the flux is
+// monotone (upwind plus added dispersion) and c stays in [0, 1]. Boundary faces carry no flux, so chaff is
 // conserved to round-off as in every flux term. Not registered (built from a resolved run, not YAML).
 #include <vector>
 
