@@ -42,9 +42,15 @@ namespace {
 /// largest 2.5e-4 m²/s in the flowing surface layer, where b/a ~ 0.1).
 constexpr double kMinResolvedDifference = 1e-5;
 
-/// Least squares of y ≈ V a − K b; K ≥ |V|/2 afterwards.
-void regress(const std::vector<double>& a, const std::vector<double>& b, const std::vector<double>& y, double& V,
-             double& K) {
+/// The drift's mobility in (A1): c̄ (1 − c̄) at the face's mean concentration.
+double mobility(double cl, double cr) {
+  const double m = 0.5 * (cl + cr);
+  return m * (1 - m);
+}
+
+/// Least squares of y ≈ V a − K b; K ≥ |V|/2 afterwards. cc = Σ_j c̄_j², the scale b is resolved against.
+void regress(const std::vector<double>& a, const std::vector<double>& b, const std::vector<double>& y, double cc,
+             double& V, double& K) {
   double aa = 0, ab = 0, bb = 0, ay = 0, by = 0;
   for (std::size_t j = 0; j < y.size(); ++j) {
     aa += a[j] * a[j], ab += a[j] * b[j], bb += b[j] * b[j], ay += a[j] * y[j], by += b[j] * y[j];
@@ -55,7 +61,7 @@ void regress(const std::vector<double>& a, const std::vector<double>& b, const s
   // identified where the difference across the face is unresolved (kMinResolvedDifference): there
   // y, a and b all drift slowly together over the averaged cycles and K fits that common trend
   // (the static core of the full Handysize hold: b/a ~ 1e-8 gave K = 0.56 m²/s, a rate of 90 /s).
-  if (det > 1e-2 * (aa * bb) && det > 0 && bb > kMinResolvedDifference * kMinResolvedDifference * aa) {
+  if (det > 1e-2 * (aa * bb) && det > 0 && bb > kMinResolvedDifference * kMinResolvedDifference * cc) {
     V = (bb * ay - ab * by) / det;
     K = (ab * ay - aa * by) / det;  // from V aa − K ab = ay, V ab − K bb = by
   } else {
@@ -77,19 +83,23 @@ void CycleFluxSampler::fit(std::vector<double>& vx, std::vector<double>& kx, std
   for (int f = 1; f < g.nx(); ++f) {
     for (int k = 0; k < g.nz(); ++k) {
       const std::size_t L = g.index(f - 1, k), R = g.index(f, k), face = x_face(g, f, k);
+      double cc = 0;
       for (int j = 0; j < n; ++j) {
-        a[j] = 0.5 * (rows_c_[j][L] + rows_c_[j][R]), b[j] = rows_c_[j][R] - rows_c_[j][L], y[j] = rows_f_[j].x[face];
+        a[j] = mobility(rows_c_[j][L], rows_c_[j][R]), b[j] = rows_c_[j][R] - rows_c_[j][L], y[j] = rows_f_[j].x[face];
+        cc += 0.25 * (rows_c_[j][L] + rows_c_[j][R]) * (rows_c_[j][L] + rows_c_[j][R]);
       }
-      regress(a, b, y, vx[face], kx[face]);
+      regress(a, b, y, cc, vx[face], kx[face]);
     }
   }
   for (int i = 0; i < g.nx(); ++i) {
     for (int m = 1; m < g.nz(); ++m) {
       const std::size_t L = g.index(i, m - 1), R = g.index(i, m), face = s_face(g, i, m);
+      double cc = 0;
       for (int j = 0; j < n; ++j) {
-        a[j] = 0.5 * (rows_c_[j][L] + rows_c_[j][R]), b[j] = rows_c_[j][R] - rows_c_[j][L], y[j] = rows_f_[j].s[face];
+        a[j] = mobility(rows_c_[j][L], rows_c_[j][R]), b[j] = rows_c_[j][R] - rows_c_[j][L], y[j] = rows_f_[j].s[face];
+        cc += 0.25 * (rows_c_[j][L] + rows_c_[j][R]) * (rows_c_[j][L] + rows_c_[j][R]);
       }
-      regress(a, b, y, vs[face], ks[face]);
+      regress(a, b, y, cc, vs[face], ks[face]);
     }
   }
 }
@@ -104,14 +114,14 @@ void CycleAveragedTransport::add_fluxes(const TermContext& ctx, std::span<const 
     for (int k = 0; k < g.nz(); ++k) {
       const std::size_t face = x_face(g, f, k);
       const double cl = c[g.index(f - 1, k)], cr = c[g.index(f, k)];
-      out.x[face] += vx_[face] * 0.5 * (cl + cr) - kx_[face] * (cr - cl);  // (A1)
+      out.x[face] += vx_[face] * mobility(cl, cr) - kx_[face] * (cr - cl);  // (A1)
     }
   }
   for (int i = 0; i < g.nx(); ++i) {
     for (int m = 1; m < g.nz(); ++m) {
       const std::size_t face = s_face(g, i, m);
       const double cl = c[g.index(i, m - 1)], cr = c[g.index(i, m)];
-      out.s[face] += vs_[face] * 0.5 * (cl + cr) - ks_[face] * (cr - cl);
+      out.s[face] += vs_[face] * mobility(cl, cr) - ks_[face] * (cr - cl);
     }
   }
 }

@@ -4,16 +4,22 @@
 //
 // Over resolved cycles j the cycle-mean flux through each face, F̄_j = (1/T) ∫_cycle F dt (all flux
 // terms together: advection, segregation, diffusion), is regressed on the cycle-mean concentrations
-// on the two sides of the face:
+// on the two sides of the face, c̄ = (c_L + c_R)/2:
 //
-//   F̄ = V (c_L + c_R)/2 − K (c_R − c_L)                                                    (A1)
+//   F̄ = V c̄ (1 − c̄) − K (c_R − c_L)                                                        (A1)
 //
-// V [m²/s per unit concentration] is the face's drift (the rectified transport the oscillating flow
-// and segregation produce, which the Eulerian mean of the flow misses), K [m²/s] its dispersion.
-// Least squares per face over the cycles; K is fitted only where it is identifiable (a and b not
-// collinear, and b resolved: rms b ≥ 1e-5 rms a), and raised to at least |V|/2 so that the flux is
-// monotone (upwind plus added dispersion) and c stays in [0, 1]. Boundary faces carry no flux, so chaff is
-// conserved to round-off as in every flux term. Not registered (built from a resolved run, not YAML).
+// V [m²/s] is the face's drift (the rectified transport the oscillating flow and segregation
+// produce, which the Eulerian mean of the flow misses), K [m²/s] its dispersion. The cycle-mean
+// flow carries no net bulk through a face, so the drift is chaff moving against grain: an exchange
+// flux that must vanish where either is absent, the c (1 − c) of Gray & Thornton (2005) as in the
+// segregation term. A drift linear in c̄ (the first form used here) has no such bound: in the full
+// Handysize hold it piled chaff to c = 6.9 in one surface cell over a day.
+// Least squares per face over the cycles; K is fitted only where it is identifiable (the two
+// regressors not collinear, and c_R − c_L resolved: rms ≥ 1e-5 rms c̄), and raised to at least
+// |V|/2. Then ∂F̄/∂c_L = V (1 − 2c̄)/2 + K ≥ 0 and ∂F̄/∂c_R ≤ 0 for c̄ in [0, 1], and F̄ = 0 at
+// c = 0 and c = 1 on both sides: a monotone flux, so an explicit step under the CFL bound keeps c
+// in [0, 1] (BDF to within its tolerance). Boundary faces carry no flux, so chaff is conserved to
+// round-off as in every flux term. Not registered (built from a resolved run, not YAML).
 #include <vector>
 
 #include "continuum/flux_term.hpp"
