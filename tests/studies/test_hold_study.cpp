@@ -16,10 +16,13 @@
 #include "studies/hold_study_report.hpp"
 #include "studies/study_kinds.hpp"
 #include "tests/studies/synthetic_cg_fields.hpp"
+#include "tests/input_error_check.hpp"
 #include "tests/temp_dir.hpp"
 
 using namespace grainscale;
 using grainscale::testing::slurp;
+using grainscale::testing::replace_in_file;
+using grainscale::testing::require_input_error;
 using grainscale::testing::TempDir;
 using grainscale::testing::write_text;
 namespace fs = std::filesystem;
@@ -157,22 +160,8 @@ TEST_CASE("Bad hold study files name the file and the key", "[study][hold][input
   auto fails_with = [&](const std::string& scenarios_extra, const std::string& extra, const std::string& file,
                         const std::string& needle, const std::string& from = "", const std::string& to = "") {
     write_reduced(dir, scenarios_extra, extra);
-    if (!from.empty()) {
-      std::string text = slurp(dir / "study.yaml");
-      const auto at = text.find(from);
-      REQUIRE(at != std::string::npos);
-      text.replace(at, from.size(), to);
-      write_text(dir / "study.yaml", text);
-    }
-    try {
-      studies::load_hold_study_settings(dir / "study.yaml");
-      FAIL("no error for: " << scenarios_extra << extra << to);
-    } catch (const InputError& e) {
-      const std::string what = e.what();
-      INFO(what);
-      CHECK(what.find(file) != std::string::npos);
-      CHECK(what.find(needle) != std::string::npos);
-    }
+    replace_in_file(dir / "study.yaml", from, to);
+    require_input_error(dir / "study.yaml", [](const std::string& f) { studies::load_hold_study_settings(f); }, file, needle, scenarios_extra + extra + to);
   };
   fails_with("", "extra_key: 1\n", "study.yaml", "extra_key");
   fails_with("  - {file: rocking.yaml, ends: 5}\n", "", "study.yaml", "scenarios[3].ends");

@@ -10,10 +10,13 @@
 #include "dem/input_error.hpp"
 #include "studies/loop_study.hpp"
 #include "studies/study_kinds.hpp"
+#include "tests/input_error_check.hpp"
 #include "tests/temp_dir.hpp"
 
 using namespace grainscale;
 using grainscale::testing::slurp;
+using grainscale::testing::replace_in_file;
+using grainscale::testing::require_input_error;
 using grainscale::testing::TempDir;
 using grainscale::testing::write_text;
 namespace fs = std::filesystem;
@@ -77,22 +80,8 @@ TEST_CASE("Bad loop study files name the file and the key", "[study][loop][input
   auto fails_with = [&](const std::string& extra, const std::string& needle, const std::string& from = "",
                         const std::string& to = "") {
     write_reduced(dir, extra);
-    if (!from.empty()) {
-      std::string text = slurp(dir / "study.yaml");
-      const auto at = text.find(from);
-      REQUIRE(at != std::string::npos);
-      text.replace(at, from.size(), to);
-      write_text(dir / "study.yaml", text);
-    }
-    try {
-      studies::load_loop_study_settings(dir / "study.yaml");
-      FAIL("no error for: " << extra << to);
-    } catch (const InputError& e) {
-      const std::string what = e.what();
-      INFO(what);
-      CHECK(what.find("study.yaml") != std::string::npos);
-      CHECK(what.find(needle) != std::string::npos);
-    }
+    replace_in_file(dir / "study.yaml", from, to);
+    require_input_error(dir / "study.yaml", [](const std::string& f) { studies::load_loop_study_settings(f); }, "study.yaml", needle, extra + to);
   };
   fails_with("extra_key: 1\n", "extra_key");
   fails_with("", "'loop'", "wheat_30min_loop.yaml", "no_such_loop.yaml");

@@ -12,10 +12,13 @@
 #include "studies/fit_command.hpp"
 #include "studies/study_kinds.hpp"
 #include "studies/study_run.hpp"
+#include "tests/input_error_check.hpp"
 #include "tests/temp_dir.hpp"
 
 using namespace grainscale;
 using grainscale::testing::slurp;
+using grainscale::testing::replace_in_file;
+using grainscale::testing::require_input_error;
 using grainscale::testing::TempDir;
 using grainscale::testing::write_text;
 namespace fs = std::filesystem;
@@ -118,24 +121,8 @@ TEST_CASE("Bad study files name the file and the key before anything runs", "[st
   auto fails_with = [&](const std::string& extra, const std::string& needle, const std::string& replace_from = "",
                         const std::string& replace_to = "") {
     write_reduced_study(dir, extra);
-    if (!replace_from.empty()) {
-      std::string text = slurp(dir / "study.yaml");
-      const auto at = text.find(replace_from);
-      REQUIRE(at != std::string::npos);
-      text.replace(at, replace_from.size(), replace_to);
-      write_text(dir / "study.yaml", text);
-    }
-    try {
-      studies::load_study_settings(dir / "study.yaml");
-      FAIL("no error for: " << extra << replace_to);
-    } catch (const InputError& e) {
-      const std::string what = e.what();
-      INFO(what);
-      CHECK(what.find("study.yaml") != std::string::npos);
-      CHECK(what.find(needle) != std::string::npos);
-    }
-    fs::remove_all(dir.path);
-    fs::create_directories(dir.path);
+    replace_in_file(dir / "study.yaml", replace_from, replace_to);
+    require_input_error(dir / "study.yaml", [](const std::string& f) { studies::load_study_settings(f); }, "study.yaml", needle, extra + replace_to);
   };
   fails_with("extra_key: 1\n", "extra_key");
   fails_with("", "scenario", "scenario: scenario.yaml", "scenario: missing.yaml");
