@@ -157,5 +157,7 @@ TEST_CASE("hold: bad settings are input errors naming the key", "[hold][input]")
              "internal_friction_deg");
   fails_with(std::string(y).replace(y.find("S: 2.0e-4"), 9, "Q: 2.0e-4"), "segregation");
   fails_with(std::string(y).replace(y.find("resolve: all"), 12, "resolve: 3"), "average_cycles");
+  fails_with(std::string(y).insert(y.find("time:"), "  averaged_integrator: {method: euler}\n"), "averaged_integrator");
+  fails_with(std::string(y).insert(y.find("time:"), "  averaged_integrator: {rtol: 2}\n"), "rtol");
   std::filesystem::remove_all(dir);
 }
