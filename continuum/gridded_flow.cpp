@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <limits>
 
+#include "dem/hdf5_numbers.hpp"
 #include "dem/input_error.hpp"
 
 namespace grainscale::continuum {
@@ -26,19 +27,7 @@ std::pair<int, double> bracket(const std::vector<double>& xs, double v) {
 
 std::vector<double> read_dataset(hid_t file, const std::string& path, const std::string& name,
                                  std::vector<hsize_t>& dims) {
-  if (H5Lexists(file, name.c_str(), H5P_DEFAULT) <= 0) throw InputError(path + ": missing dataset '" + name + "'");
-  const hid_t set = H5Dopen2(file, name.c_str(), H5P_DEFAULT);
-  const hid_t space = H5Dget_space(set);
-  const int rank = H5Sget_simple_extent_ndims(space);
-  dims.assign(static_cast<std::size_t>(std::max(rank, 0)), 0);
-  H5Sget_simple_extent_dims(space, dims.data(), nullptr);
-  hsize_t count = 1;
-  for (hsize_t d : dims) count *= d;
-  std::vector<double> data(count);
-  const herr_t status = H5Dread(set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data());
-  H5Sclose(space);
-  H5Dclose(set);
-  if (status < 0) throw InputError(path + ": cannot read dataset '" + name + "' as numbers");
+  std::vector<double> data = dem::read_hdf5_doubles(file, path, name, dims);
   for (double v : data) {
     if (!std::isfinite(v)) throw InputError(path + ": dataset '" + name + "' holds a NaN or infinity");
   }
@@ -87,20 +76,7 @@ void read_cg_fields(hid_t file, const std::string& path, int frame, std::vector<
   z = read_dataset(file, path, "/grid/z", dz);
   // NaN is allowed in the raw fields (empty cells); filtered below.
   auto read_raw = [&](const std::string& n, std::vector<hsize_t>& dims) {
-    if (H5Lexists(file, n.c_str(), H5P_DEFAULT) <= 0) throw InputError(path + ": missing dataset '" + n + "'");
-    const hid_t set = H5Dopen2(file, n.c_str(), H5P_DEFAULT);
-    const hid_t space = H5Dget_space(set);
-    const int rank = H5Sget_simple_extent_ndims(space);
-    dims.assign(static_cast<std::size_t>(std::max(rank, 0)), 0);
-    H5Sget_simple_extent_dims(space, dims.data(), nullptr);
-    hsize_t n_all = 1;
-    for (hsize_t d : dims) n_all *= d;
-    std::vector<double> data(n_all);
-    const herr_t st = H5Dread(set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data());
-    H5Sclose(space);
-    H5Dclose(set);
-    if (st < 0) throw InputError(path + ": cannot read '" + n + "' as numbers");
-    return data;
+    return dem::read_hdf5_doubles(file, path, n, dims);
   };
   const std::vector<double> vel = read_raw(f + "mixture/velocity", dv);
   const std::vector<double> gam = read_raw(f + "shear_rate", dr);

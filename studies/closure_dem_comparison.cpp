@@ -11,6 +11,7 @@
 
 #include "continuum/closure/shallow_granular_flow.hpp"
 #include "dem/atomic_file.hpp"
+#include "dem/hdf5_numbers.hpp"
 #include "dem/input_error.hpp"
 #include "dem/scenario.hpp"
 #include "studies/plot.hpp"
@@ -35,36 +36,6 @@ struct DemFields {
   std::vector<DemFrame> frames;
 };
 
-std::vector<double> read(hid_t file, const std::string& path, const std::string& name, std::vector<hsize_t>& dims) {
-  if (H5Lexists(file, name.c_str(), H5P_DEFAULT) <= 0) throw InputError(path + ": missing dataset '" + name + "'");
-  const hid_t set = H5Dopen2(file, name.c_str(), H5P_DEFAULT);
-  const hid_t space = H5Dget_space(set);
-  dims.assign(static_cast<std::size_t>(std::max(H5Sget_simple_extent_ndims(space), 0)), 0);
-  H5Sget_simple_extent_dims(space, dims.data(), nullptr);
-  hsize_t count = 1;
-  for (hsize_t d : dims) count *= d;
-  std::vector<double> data(count);
-  const herr_t status = H5Dread(set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data());
-  H5Sclose(space);
-  H5Dclose(set);
-  if (status < 0) throw InputError(path + ": cannot read dataset '" + name + "' as numbers");
-  return data;
-}
-
-std::vector<double> attribute(hid_t file, const std::string& path, const std::string& object, const char* name, std::size_t n) {
-  const hid_t obj = H5Oopen(file, object.c_str(), H5P_DEFAULT);
-  if (obj < 0 || H5Aexists(obj, name) <= 0) {
-    if (obj >= 0) H5Oclose(obj);
-    throw InputError(path + ": " + object + " has no attribute '" + name + "'");
-  }
-  const hid_t a = H5Aopen(obj, name, H5P_DEFAULT);
-  std::vector<double> v(n, NAN);
-  H5Aread(a, H5T_NATIVE_DOUBLE, v.data());
-  H5Aclose(a);
-  H5Oclose(obj);
-  return v;
-}
-
 DemFields read_dem_fields(const std::string& path) {
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
   const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
@@ -73,23 +44,23 @@ DemFields read_dem_fields(const std::string& path) {
   try {
     if (H5Aexists(file, "cg_layout_version") <= 0) throw InputError(path + ": not a grainscale cg field file (no cg_layout_version)");
     std::vector<hsize_t> dx, dy, dz, dims;
-    d.x = read(file, path, "/grid/x", dx);
-    const auto y = read(file, path, "/grid/y", dy);
-    d.z = read(file, path, "/grid/z", dz);
-    const auto lo = attribute(file, path, "/grid", "lo", 3), hi = attribute(file, path, "/grid", "hi", 3);
+    d.x = dem::read_hdf5_doubles(file, path, "/grid/x", dx);
+    const auto y = dem::read_hdf5_doubles(file, path, "/grid/y", dy);
+    d.z = dem::read_hdf5_doubles(file, path, "/grid/z", dz);
+    const auto lo = dem::read_hdf5_attribute(file, path, "/grid", "lo", 3), hi = dem::read_hdf5_attribute(file, path, "/grid", "hi", 3);
     d.lo_x = lo[0], d.hi_x = hi[0], d.lo_z = lo[2], d.width = hi[1] - lo[1];
     const std::size_t nx = d.x.size(), ny = y.size(), nz = d.z.size();
     if (nz < 2 || nx < 3) throw InputError(path + ": needs an (x, z) grid (2-D or 3-D) with at least 3 x and 2 z cells");
-    const int frames = static_cast<int>(attribute(file, path, "/frames", "count", 1)[0]);
+    const int frames = static_cast<int>(dem::read_hdf5_attribute(file, path, "/frames", "count", 1)[0]);
     for (int f = 0; f < frames; ++f) {
       char name[32];
       std::snprintf(name, sizeof name, "/frames/%06d", f);
       DemFrame fr;
-      fr.t = attribute(file, path, name, "time", 1)[0];
-      const auto h = read(file, path, std::string(name) + "/surface_height", dims);
+      fr.t = dem::read_hdf5_attribute(file, path, name, "time", 1)[0];
+      const auto h = dem::read_hdf5_doubles(file, path, std::string(name) + "/surface_height", dims);
       if (h.size() != ny * nx) throw InputError(path + ": " + name + "/surface_height is not (ny, nx)");
-      const auto u = read(file, path, std::string(name) + "/mixture/velocity", dims);
-      const auto rho = read(file, path, std::string(name) + "/mixture/density", dims);
+      const auto u = dem::read_hdf5_doubles(file, path, std::string(name) + "/mixture/velocity", dims);
+      const auto rho = dem::read_hdf5_doubles(file, path, std::string(name) + "/mixture/density", dims);
       if (u.size() != nz * ny * nx * 3 || rho.size() != nz * ny * nx) {
         throw InputError(path + ": " + name + "/mixture/velocity or density is not (nz, ny, nx[, 3])");
       }

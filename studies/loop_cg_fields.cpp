@@ -8,40 +8,17 @@
 #include <vector>
 
 #include "dem/atomic_file.hpp"
+#include "dem/hdf5_numbers.hpp"
 #include "dem/input_error.hpp"
 
 namespace grainscale::studies {
 
 namespace {
 
-std::vector<double> read(hid_t file, const std::string& path, const std::string& name, std::vector<hsize_t>& dims) {
-  if (H5Lexists(file, name.c_str(), H5P_DEFAULT) <= 0) throw InputError(path + ": missing dataset '" + name + "'");
-  const hid_t set = H5Dopen2(file, name.c_str(), H5P_DEFAULT);
-  const hid_t space = H5Dget_space(set);
-  dims.assign(static_cast<std::size_t>(std::max(H5Sget_simple_extent_ndims(space), 0)), 0);
-  H5Sget_simple_extent_dims(space, dims.data(), nullptr);
-  hsize_t count = 1;
-  for (hsize_t d : dims) count *= d;
-  std::vector<double> data(count);
-  const herr_t status = H5Dread(set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data());
-  H5Sclose(space);
-  H5Dclose(set);
-  if (status < 0) throw InputError(path + ": cannot read dataset '" + name + "' as numbers");
-  return data;
-}
+using dem::read_hdf5_doubles;
 
 double attribute(hid_t file, const std::string& path, const std::string& object, const char* name) {
-  const hid_t obj = H5Oopen(file, object.c_str(), H5P_DEFAULT);
-  if (obj < 0 || H5Aexists(obj, name) <= 0) {
-    if (obj >= 0) H5Oclose(obj);
-    throw InputError(path + ": " + object + " has no attribute '" + name + "'");
-  }
-  const hid_t a = H5Aopen(obj, name, H5P_DEFAULT);
-  double v = NAN;
-  H5Aread(a, H5T_NATIVE_DOUBLE, &v);
-  H5Aclose(a);
-  H5Oclose(obj);
-  return v;
+  return dem::read_hdf5_attribute(file, path, object, name)[0];
 }
 
 }  // namespace
@@ -55,7 +32,7 @@ std::size_t cg_fields_to_csv(const std::string& path, const std::string& csv_pat
   try {
     if (H5Aexists(file, "cg_layout_version") <= 0) throw InputError(path + ": not a grainscale cg field file (no cg_layout_version)");
     std::vector<hsize_t> dx, dy, dz;
-    const auto x = read(file, path, "/grid/x", dx), y = read(file, path, "/grid/y", dy), z = read(file, path, "/grid/z", dz);
+    const auto x = read_hdf5_doubles(file, path, "/grid/x", dx), y = read_hdf5_doubles(file, path, "/grid/y", dy), z = read_hdf5_doubles(file, path, "/grid/z", dz);
     const int frames = static_cast<int>(attribute(file, path, "/frames", "count"));
     if (frames < 1) throw InputError(path + ": no frames");
     out << "t_s,x_m,z_m,c\n";
@@ -64,7 +41,7 @@ std::size_t cg_fields_to_csv(const std::string& path, const std::string& csv_pat
       std::snprintf(name, sizeof name, "/frames/%06d", f);
       const double t = attribute(file, path, name, "time");
       std::vector<hsize_t> dc;
-      const auto c = read(file, path, std::string(name) + "/chaff_volume_concentration", dc);
+      const auto c = read_hdf5_doubles(file, path, std::string(name) + "/chaff_volume_concentration", dc);
       if (dc != std::vector<hsize_t>{z.size(), y.size(), x.size()}) {
         throw InputError(path + ": " + name + "/chaff_volume_concentration is not (nz, ny, nx)");
       }
