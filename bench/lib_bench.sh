@@ -1,5 +1,5 @@
-# Shared helpers of the benchmark scripts (sourced, not run): run_clump_bed.sh, run_scaling.sh,
-# run_platform_rate.sh. (run_box_settle.sh predates it and keeps its own copy.)
+# Shared helpers of the benchmark scripts (sourced, not run): run_box_settle.sh, run_clump_bed.sh,
+# run_scaling.sh, run_platform_rate.sh.
 # Before sourcing, set BENCH_NAME (message prefix). Provides:
 #   HERE ROOT NCPU HZ; die say; need_grainscale (sets GS); need_liggghts (sets LIGGGHTS, MPIRUN);
 #   busy_jiffies other_cpu_percent wait_idle (IDLE_WAIT, IDLE_MAX); run_logged LOG CMD...;

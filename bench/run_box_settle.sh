@@ -16,7 +16,6 @@ ROOT="$(cd "$HERE/.." && pwd)"
 OUT="$HERE/out"
 YAML="$HERE/box_settle.yaml"
 LIG_IN="$HERE/liggghts/in.box_settle"
-GS="$ROOT/build/studies/grainscale"
 
 STEPS="${STEPS:-20000}"
 COUNTS="${COUNTS:-1 2}"
@@ -24,115 +23,15 @@ REPEATS="${REPEATS:-2}"
 IDLE_WAIT="${IDLE_WAIT:-600}"
 IDLE_MAX="${IDLE_MAX:-10}"
 
-die() { echo "run_box_settle: error: $*" >&2; exit 1; }
-say() { echo "[box_settle] $*" >&2; }
+BENCH_NAME=box_settle
+# die, say, need_liggghts, need_grainscale, wait_idle, run_logged (bench/lib_bench.sh)
+source "$HERE/lib_bench.sh"
 
 [[ -f "$YAML" ]] || die "missing $YAML"
 [[ -f "$LIG_IN" ]] || die "missing $LIG_IN"
-command -v python3 >/dev/null || die "python3 is needed to read the logs"
 mkdir -p "$OUT"
-
-# ---------------------------------------------------------------- LIGGGHTS (install if missing)
-find_liggghts() {
-  local c
-  for c in liggghts lmp_debian liggghts-mpi; do
-    if command -v "$c" >/dev/null 2>&1; then command -v "$c"; return 0; fi
-  done
-  return 1
-}
-if ! LIGGGHTS="$(find_liggghts)"; then
-  say "LIGGGHTS not found; installing the Debian package 'liggghts'"
-  SUDO=""
-  if [[ "$(id -u)" -ne 0 ]]; then
-    command -v sudo >/dev/null || die "not root and no sudo: install LIGGGHTS with 'apt-get install -y liggghts'"
-    SUDO="sudo"
-  fi
-  $SUDO apt-get update -q || die "apt-get update failed"
-  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -q liggghts || die "apt-get install liggghts failed"
-  LIGGGHTS="$(find_liggghts)" || die "liggghts installed but no liggghts executable on PATH"
-fi
-say "LIGGGHTS: $LIGGGHTS ($(dpkg-query -W -f='${Version}' liggghts 2>/dev/null || echo 'version unknown'))"
-
-# Debian's liggghts is built against Open MPI: several processes need mpirun.
-LIG_MPI=0
-# (grep -c, not grep -q: under pipefail an early-exiting grep kills ldd with SIGPIPE and the test fails)
-if [[ $(ldd "$LIGGGHTS" 2>/dev/null | grep -c libmpi) -gt 0 ]]; then LIG_MPI=1; fi
-MPIRUN=()
-if [[ "$LIG_MPI" -eq 1 ]]; then
-  if command -v mpirun >/dev/null 2>&1; then
-    MPIRUN=(mpirun)
-    if mpirun --version 2>&1 | grep -q 'Open MPI'; then
-      if [[ "$(id -u)" -eq 0 ]]; then MPIRUN+=(--allow-run-as-root); fi
-    fi
-  else
-    say "warning: liggghts is MPI-built but mpirun is missing; only 1 process will be run"
-  fi
-else
-  say "warning: liggghts is not MPI-built; only 1 process will be run"
-fi
-
-# ---------------------------------------------------------------- grainscale (build if missing)
-if [[ ! -x "$GS" ]]; then
-  say "grainscale not built; building into build/ (cmake -S . -B build && cmake --build build -j2)"
-  (cd "$ROOT" && cmake -S . -B build && cmake --build build -j2) || die "grainscale build failed"
-fi
-[[ -x "$GS" ]] || die "no executable at $GS"
-say "grainscale: $GS ($("$GS" version 2>/dev/null || echo 'version unknown'))"
-
-# ---------------------------------------------------------------- helpers
-NCPU="$(nproc)"
-HZ="$(getconf CLK_TCK)"
-
-busy_jiffies() {  # busy and total jiffies of all CPUs
-  awk '/^cpu /{b=$2+$3+$4+$7+$8+$9; print b, b+$5+$6}' /proc/stat
-}
-
-other_cpu_percent() {  # % of all CPUs busy over 2 s (call while none of ours is running)
-  local a b
-  a=($(busy_jiffies)); sleep 2; b=($(busy_jiffies))
-  echo $(( 100 * (b[0] - a[0]) / (b[1] - a[1] > 0 ? b[1] - a[1] : 1) ))
-}
-
-wait_idle() {
-  local waited=0 p
-  while :; do
-    p="$(other_cpu_percent)"
-    if (( p <= IDLE_MAX )); then return 0; fi
-    if (( waited >= IDLE_WAIT )); then
-      say "warning: the machine is still ${p}% busy with other work after ${waited} s; timing anyway (figures will be low)"
-      return 0
-    fi
-    if (( waited == 0 )); then say "waiting for other processes to finish (CPU ${p}% busy; up to ${IDLE_WAIT} s) ..."; fi
-    sleep 8; waited=$(( waited + 10 ))
-  done
-}
-
-# run LOG CMD...: runs CMD with stdout+stderr to LOG; records wall, own CPU and the CPU that other
-# processes used meanwhile (in cores) to LOG.load
-run_logged() {
-  local log="$1"; shift
-  local a b t0 t1 rc=0
-  a=($(busy_jiffies)); t0="$(date +%s.%N)"
-  /usr/bin/env time -f 'OWN_CPU_S %U %S' -o "$log.cpu" "$@" >"$log" 2>&1 || rc=$?
-  t1="$(date +%s.%N)"; b=($(busy_jiffies))
-  python3 - "$log" "$t0" "$t1" "${a[0]}" "${b[0]}" "$HZ" <<'PY'
-import sys
-log, t0, t1, a, b, hz = sys.argv[1], float(sys.argv[2]), float(sys.argv[3]), int(sys.argv[4]), int(sys.argv[5]), int(sys.argv[6])
-own = 0.0
-try:
-    for line in open(log + ".cpu"):
-        if line.startswith("OWN_CPU_S"):
-            _, u, s = line.split(); own = float(u) + float(s)
-except OSError:
-    pass
-wall = t1 - t0
-other = max(0.0, ((b - a) / hz - own) / wall) if wall > 0 else 0.0
-open(log + ".load", "w").write(f"wall_s {wall:.2f} own_cpu_s {own:.2f} other_cores {other:.2f}\n")
-PY
-  return $rc
-}
-
-command -v time >/dev/null 2>&1 || [[ -x /usr/bin/time ]] || die "/usr/bin/time is needed (apt-get install time)"
+need_liggghts    # LIGGGHTS from Debian, installed if missing; MPIRUN
+need_grainscale  # GS, built into build/ if missing
 
 rm -f "$OUT"/grainscale_t*_r*.log* "$OUT"/liggghts_np*_r*.log* "$OUT/results.txt"
 
