@@ -1,0 +1,80 @@
+// The force loop's bookkeeping of which neighbour-list entries touch (dem/force_field.hpp): a pair
+// that parts exerts exactly no force and its tangential history is cleared (Luding 2008: the Mindlin
+// spring starts afresh at every new contact), whether it parts between two force evaluations or a
+// list rebuild carries a history over to a pair that is already apart.
+#include <catch2/catch.hpp>
+
+#include <vector>
+
+#include "dem/force_field.hpp"
+#include "dem/neighbor_list.hpp"
+
+using namespace grainscale::dem;
+
+namespace {
+
+struct TwoSpheres {
+  MaterialTable materials;
+  Particles p;
+  NeighborList nl;
+  ForceField ff;
+  std::vector<Wall> walls;
+  const double r = 0.003, skin = 0.002, dt = 1e-6;
+
+  TwoSpheres() {
+    const int m = materials.add({"grain", 1380, 2.6e6, 0.3});
+    materials.set_pair(m, m, {0.5, 0.35, 0.08, true});
+    p.add_sphere(0, m, r, 1380, {0, 0, 0});
+    p.add_sphere(1, m, r, 1380, {2 * r - 1e-4, 0, 0}, {0, 0.05, 0});  // overlapping, sliding along y
+    ff.setup(materials, walls, RollingSettings{});
+    rebuild();
+  }
+  void rebuild() {
+    const auto order = nl.sort_by_cell(p, skin);
+    p.permute(order);
+    nl.build(p, skin, order);
+  }
+  const ContactHistory& history() const {
+    REQUIRE(nl.entries() == 1);
+    return nl.history(0);
+  }
+};
+
+}  // namespace
+
+TEST_CASE("A pair that parts exerts no force and its tangential history starts afresh", "[dem][contact]") {
+  TwoSpheres s;
+  const ForceDiagnostics touching = s.ff.compute(s.p, s.nl, s.walls, s.dt);
+  REQUIRE(touching.contacts == 1);
+  CHECK(norm2(s.p.force[0]) > 0);
+  CHECK(norm2(s.history().shear) > 0);  // the Mindlin spring has stretched along y
+
+  // Apart, but still inside the skin: the same list entry, no rebuild.
+  for (std::size_t i = 0; i < s.p.size(); ++i) {
+    if (s.p.id[i] == 1) s.p.x[i].x += 5e-4;
+  }
+  const ForceDiagnostics apart = s.ff.compute(s.p, s.nl, s.walls, s.dt);
+  CHECK(apart.contacts == 0);
+  REQUIRE(s.nl.entries() == 1);
+  for (std::size_t i = 0; i < s.p.size(); ++i) {
+    CHECK(s.p.force[i] == Vec3{});
+    CHECK(s.p.torque[i] == Vec3{});
+  }
+  CHECK(s.history().shear == Vec3{});
+  CHECK(s.history().rolling == Vec3{});
+
+  // A rebuilt list that carries a (stale) history to a pair already apart: cleared at the next step.
+  s.nl.history(0).shear = {1e-5, 0, 0};
+  s.rebuild();
+  s.nl.history(0).shear = {0, 1e-5, 0};
+  s.ff.compute(s.p, s.nl, s.walls, s.dt);
+  CHECK(s.history().shear == Vec3{});
+  for (std::size_t i = 0; i < s.p.size(); ++i) CHECK(s.p.force[i] == Vec3{});
+
+  // Touching again: the spring starts from zero, so the first step's shear is one step of sliding.
+  for (std::size_t i = 0; i < s.p.size(); ++i) {
+    if (s.p.id[i] == 1) s.p.x[i].x -= 5e-4;
+  }
+  s.ff.compute(s.p, s.nl, s.walls, s.dt);
+  CHECK(norm(s.history().shear) == Approx(0.05 * s.dt).epsilon(1e-6));
+}
