@@ -31,6 +31,9 @@ HoldSettings load_hold_settings(const std::string& file) {
     s.direction = c.choice_or("direction", "longitudinal", {"longitudinal", "transverse"});
     const std::vector<double> pivot = c.numbers_or_empty("pivot", 2, 2);
     if (!pivot.empty()) s.pivot_x = pivot[0], s.pivot_z = pivot[1];
+    // Distance between the side walls across the section: their friction μ_w a/W (side_wall_friction.hpp);
+    // absent: a 2-D section without side-wall friction.
+    if (c.has("width")) s.width = c.number("width", Range{0, 1e4, true, false});
     c.finish();
   }
   {
@@ -62,6 +65,7 @@ HoldSettings load_hold_settings(const std::string& file) {
     t.finish();
   }
   s.friction = continuum::closure::bed_friction_from_yaml(root.map("material"));
+  s.friction.side_walls.width = s.width;
   {
     YamlMap ch = root.map("chaff");
     s.window = std::min(ch.number_or("window", 1.0, Range{0, 1e3, true, false}), s.fill_height);

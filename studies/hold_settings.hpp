@@ -6,6 +6,7 @@
 // cycle-averaged slow-time model). Every error is an InputError naming file, key and range.
 #include <yaml-cpp/yaml.h>
 
+#include <limits>
 #include <memory>
 #include <string>
 #include <utility>
@@ -22,6 +23,7 @@ struct HoldSettings {
   // Container section and fill.
   double length = 0, depth = 0, fill_height = 0;  // [m]
   bool decked = false;                            // a deck (ceiling) at `depth` (ship holds) vs open top
+  double width = std::numeric_limits<double>::infinity();  // between the side walls [m]; ∞: none stated
   int nx = 0;
   // Placement and motion (container_gravity.hpp).
   std::string direction = "longitudinal";  // section along the motion's x (pitch) or y (roll) axis

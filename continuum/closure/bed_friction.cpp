@@ -8,11 +8,21 @@ namespace {
 constexpr double kDeg = M_PI / 180;
 }
 
+namespace {
+
+/// (F2) alone.
+double mu_bed(const BedFriction& f, double h) {
+  const double tphi = std::tan(f.internal_deg * kDeg);
+  const double floor = std::min(std::tan(f.basal_deg * kDeg), tphi);
+  if (!std::isfinite(f.layer_depth)) return floor;
+  return tphi + (floor - tphi) * std::exp(-std::max(h, 0.0) / f.layer_depth);
+}
+
+}  // namespace
+
 double BedFriction::mu_static(double h) const {
-  const double tphi = std::tan(internal_deg * kDeg);
-  const double floor = std::min(std::tan(basal_deg * kDeg), tphi);
-  if (!std::isfinite(layer_depth)) return floor;
-  return tphi + (floor - tphi) * std::exp(-std::max(h, 0.0) / layer_depth);
+  if (!side_walls.active()) return mu_bed(*this, h);  // the 2-D closure, unchanged
+  return mu_bed(*this, h) + side_walls.mu(active_depth(h));
 }
 
 double BedFriction::surface_weight(double h) const {
@@ -48,6 +58,7 @@ BedFriction bed_friction_from_yaml(YamlMap m) {
   } else {
     f.layer_depth = f.grain_diameter * m.number_or("flowing_layer_diameters", 10, Range{0, 1e6, true, false});
   }
+  f.side_walls.friction = m.number_or("wall_friction", std::tan(f.basal_deg * kDeg), Range::closed(0, 2));
   m.finish();
   return f;
 }

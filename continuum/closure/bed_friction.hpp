@@ -18,8 +18,13 @@
 // floor) is this closure's assumption, not a published law.
 //
 // Δμ = 0 gives a pure Coulomb material (flows, once yielded, are resisted by tan φ only).
+//
+// Side walls (side_wall_friction.hpp, (W1)): a section of a channel of width W adds μ_w a(h)/W to μ_s,
+// so to the threshold and, through (F1), to the moving friction. No width: no term.
 #include <cmath>
 #include <limits>
+
+#include "continuum/closure/side_wall_friction.hpp"
 
 #include "dem/yaml_map.hpp"
 
@@ -34,7 +39,9 @@ struct BedFriction {
   /// ℓ [m]: e-folding depth of the velocity profile; +∞: plug flow over the whole depth (classical
   /// Savage–Hutter, a = h, μ_s = min(tan δ, tan φ)).
   double layer_depth = 0.04;
+  SideWallFriction side_walls;  // none unless a width is given
 
+  /// (F2) plus the side walls' μ_w a(h)/W (W1).
   double mu_static(double h) const;
   /// (F1) at speed |u| ≥ 0 in a layer of thickness a > 0 with normal gravity g_n > 0.
   double mu(double h, double a, double speed, double g_normal) const;
@@ -45,8 +52,10 @@ struct BedFriction {
 };
 
 /// Reads `{internal_friction_deg, basal_friction_deg, delta_mu, i0, grain_diameter,
-/// flowing_layer_diameters | flowing_layer_depth}`; every key optional (defaults above, flowing
-/// layer 10 grain diameters). Throws InputError naming file, key and range.
+/// flowing_layer_diameters | flowing_layer_depth, wall_friction}`; every key optional (defaults above,
+/// flowing layer 10 grain diameters, wall_friction μ_w in [0, 2] defaults to tan δ: side walls of the
+/// floor's material). The side walls' width is the container's, set by the caller (none here).
+/// Throws InputError naming file, key and range.
 BedFriction bed_friction_from_yaml(YamlMap m);
 
 }  // namespace grainscale::continuum::closure

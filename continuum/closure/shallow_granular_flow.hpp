@@ -22,7 +22,8 @@
 // tan θ − tan β ≤ μ_s, 3° off at θ = 35°, φ = 26.7°. The common factor (1 + h_x²)^{−1/2} of drive
 // and load is dropped (it changes speeds by cos β, not the threshold).
 // g_t, g_n: gravity along and into the floor in the container frame, including the lever-arm
-// accelerations (container_gravity.hpp); μ from bed_friction.hpp; the earth-pressure coefficient is
+// accelerations (container_gravity.hpp); μ from bed_friction.hpp, including the side walls' μ_w a/W
+// for a channel of width W (side_wall_friction.hpp, (W1); none without a width); the earth-pressure coefficient is
 // 1 (hydrostatic), the shape factor of ∫u² dz is taken as 1. For ℓ = ∞, (S1)–(S2) are the SH
 // equations (mass and velocity form) on a flat floor. For h ≫ ℓ they are a shallow layer of
 // thickness ℓ flowing over, and exchanging mass with, static grain (a BCRE-type picture, Bouchaud et

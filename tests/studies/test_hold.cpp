@@ -161,3 +161,36 @@ TEST_CASE("hold: bad settings are input errors naming the key", "[hold][input]")
   fails_with(std::string(y).insert(y.find("time:"), "  averaged_integrator: {rtol: 2}\n"), "rtol");
   std::filesystem::remove_all(dir);
 }
+
+TEST_CASE("hold: side walls from the container's width and the material's wall friction", "[hold][input][side_walls]") {
+  const std::string dir = temp_folder("walls");
+  const std::string y = box_yaml("all", 10);
+  // No width: no side-wall term (the closure as before).
+  CHECK_FALSE(settings_from(dir, "plain.yaml", y).friction.side_walls.active());
+  // A width: μ_w defaults to the floor's tan δ (walls of the floor's material), or is stated.
+  std::string w = std::string(y).replace(y.find("nx: 32}"), 7, "nx: 32, width: 0.03}");
+  const HoldSettings a = settings_from(dir, "walls.yaml", w);
+  CHECK(a.friction.side_walls.width == 0.03);
+  CHECK(a.friction.side_walls.friction == Approx(std::tan(15 * M_PI / 180)).epsilon(1e-14));
+  w.replace(w.find("flowing_layer_diameters: 3}"), 27, "flowing_layer_diameters: 3, wall_friction: 0.4}");
+  CHECK(settings_from(dir, "walls2.yaml", w).friction.side_walls.friction == 0.4);
+  // Bad values name the file, the key and the range.
+  auto fails_with = [&](const std::string& yaml, const std::string& key, const std::string& range) {
+    CAPTURE(key);
+    try {
+      settings_from(dir, "bad_walls.yaml", yaml);
+      FAIL("no error");
+    } catch (const InputError& e) {
+      const std::string what = e.what();
+      INFO(what);
+      CHECK(what.find("bad_walls.yaml") != std::string::npos);
+      CHECK(what.find(key) != std::string::npos);
+      CHECK(what.find(range) != std::string::npos);
+    }
+  };
+  fails_with(std::string(w).replace(w.find("width: 0.03"), 11, "width: -0.03"), "width", "(0, 10000]");
+  fails_with(std::string(w).replace(w.find("width: 0.03"), 11, "width: 0"), "width", "(0, 10000]");
+  fails_with(std::string(w).replace(w.find("wall_friction: 0.4"), 18, "wall_friction: 2.5"), "wall_friction", "[0, 2]");
+  fails_with(std::string(w).replace(w.find("wall_friction: 0.4"), 18, "wall_friction: -0.1"), "wall_friction", "[0, 2]");
+  std::filesystem::remove_all(dir);
+}
