@@ -12,8 +12,13 @@
 // to the DEM's mean surface height at the first compared frame, with the bed friction of a listed hold
 // scenario; the same two measures from its h(x) and u_s(x) (the surface speed is the mean over the
 // flowing layer of u_s e^{-ζ/ℓ}, as the DEM's). Errors: RMS and max over the frames.
+// The DEM box has side walls: the closure is run with their friction μ_w a/W (side_wall_friction.hpp,
+// Jop, Forterre & Pouliquen 2005), W the box's width across the section (the cg grid's y extent) and
+// μ_w the DEM's sliding friction of the grain on the box's material; and, for comparison, without
+// them (the 2-D closure, `open_*`). The verdict is the one with the side walls.
 // "Agrees" (this study's bar, not a published one): surface angle within kAngleTolerance RMS and
 // surface speed within kSpeedTolerance of the DEM's RMS surface speed (at least kSpeedFloor) RMS.
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -32,15 +37,19 @@ struct ClosureDemComparison {
   std::vector<double> tilt_deg;                         // the box's tilt [deg]
   std::vector<double> dem_angle_deg, closure_angle_deg; // free-surface angle to the horizontal [deg]
   std::vector<double> dem_speed, closure_speed;         // surface speed along the box [m/s]
+  std::vector<double> open_angle_deg, open_speed;       // the closure without side walls
+  double side_wall_width = 0, side_wall_friction = NAN; // W [m] and μ_w used
   double angle_rms_error_deg = 0, angle_max_error_deg = 0;
   double speed_rms_error = 0, speed_max_error = 0, dem_speed_rms = 0;
+  double open_angle_rms_error_deg = 0, open_angle_max_error_deg = 0, open_speed_rms_error = 0, open_speed_max_error = 0;
   bool agrees = false;
   std::vector<std::string> figures;  // written into the folder given (with comparison.csv), names relative to it
   std::vector<std::string> notes;    // what limits the comparison
 };
 
 /// Throws InputError naming the file for a fields file without surface heights or velocities, a
-/// scenario without the container's motion, or fewer than 2 frames with grain.
+/// scenario without the container's motion or the grain-wall pair friction, or fewer than 2 frames
+/// with grain.
 ClosureDemComparison compare_closure_with_dem(const std::string& cg_fields, const std::string& dem_scenario,
                                               const std::string& container, const HoldSettings& material,
                                               const std::string& folder);

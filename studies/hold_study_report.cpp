@@ -201,23 +201,29 @@ std::string write_hold_study_report(const HoldStudySettings& s, const HoldStudyR
     const ClosureDemComparison& v = *r.validation;
     m << "The flow closure against the coarse-grained DEM flow of `" << v.dem_scenario << "` (fields `" << v.cg_fields
       << "`): the same box (" << g(v.box_length, 3) << " m), pivot and motion, filled to the DEM's mean surface height ("
-      << g(1000 * v.fill_height, 3) << " mm), with the bed friction of `" << v.material_from << "` and a flowing "
-      << "layer of " << g(1000 * v.flowing_layer, 3) << " mm. Measures per frame: the free-surface angle to the "
-      << "horizontal (tilt + least-squares slope of h(x) in the box frame) and the surface speed along the box "
-      << "(closure_dem_comparison.hpp).\n\n"
-      << "| t (s) | tilt (deg) | surface angle DEM (deg) | closure (deg) | surface speed DEM (m/s) | closure (m/s) |\n"
-      << "|---|---|---|---|---|---|\n";
+      << g(1000 * v.fill_height, 3) << " mm), with the bed friction of `" << v.material_from << "`, a flowing "
+      << "layer of " << g(1000 * v.flowing_layer, 3) << " mm and the friction of the box's side walls, mu_w a/W with W = "
+      << g(1000 * v.side_wall_width, 3) << " mm and mu_w = " << g(v.side_wall_friction, 3) << " (the DEM's grain-wall "
+      << "sliding friction; Jop, Forterre & Pouliquen 2005); the 2-D closure without side walls beside it. Measures "
+      << "per frame: the free-surface angle to the horizontal (tilt + least-squares slope of h(x) in the box frame) "
+      << "and the surface speed along the box (closure_dem_comparison.hpp).\n\n"
+      << "| t (s) | tilt (deg) | surface angle DEM (deg) | closure (deg) | 2-D closure (deg) | surface speed DEM (m/s) | "
+         "closure (m/s) | 2-D closure (m/s) |\n"
+      << "|---|---|---|---|---|---|---|---|\n";
     const std::size_t n = v.times.size(), step = (n + 19) / 20;  // at most 20 rows; all in the CSV
     for (std::size_t j = 0; j < n; j += step) {
       m << "| " << g(v.times[j], 4) << " | " << g(v.tilt_deg[j], 3) << " | " << g(v.dem_angle_deg[j], 3) << " | "
-        << g(v.closure_angle_deg[j], 3) << " | " << g(v.dem_speed[j], 3) << " | " << g(v.closure_speed[j], 3) << " |\n";
+        << g(v.closure_angle_deg[j], 3) << " | " << g(v.open_angle_deg[j], 3) << " | " << g(v.dem_speed[j], 3) << " | "
+        << g(v.closure_speed[j], 3) << " | " << g(v.open_speed[j], 3) << " |\n";
     }
-    m << "\n| error over " << v.times.size() << " frames | RMS | max |\n|---|---|---|\n"
-      << "| free-surface angle | " << g(v.angle_rms_error_deg, 3) << " deg | " << g(v.angle_max_error_deg, 3) << " deg |\n"
+    m << "\n| error over " << v.times.size() << " frames | RMS | max | 2-D closure: RMS | max |\n|---|---|---|---|---|\n"
+      << "| free-surface angle | " << g(v.angle_rms_error_deg, 3) << " deg | " << g(v.angle_max_error_deg, 3) << " deg | "
+      << g(v.open_angle_rms_error_deg, 3) << " deg | " << g(v.open_angle_max_error_deg, 3) << " deg |\n"
       << "| surface speed | " << g(v.speed_rms_error, 3) << " m/s (DEM RMS speed " << g(v.dem_speed_rms, 3) << " m/s) | "
-      << g(v.speed_max_error, 3) << " m/s |\n\n"
+      << g(v.speed_max_error, 3) << " m/s | " << g(v.open_speed_rms_error, 3) << " m/s | " << g(v.open_speed_max_error, 3)
+      << " m/s |\n\n"
       << (step > 1 ? "One frame in " + std::to_string(step) + " shown; all in `closure_vs_dem/comparison.csv`.\n\n" : "")
-      << "Verdict: the closure " << (v.agrees ? "**reproduces**" : "**does not reproduce**")
+      << "Verdict: the closure with side walls " << (v.agrees ? "**reproduces**" : "**does not reproduce**")
       << " this DEM flow (bar: surface angle within " << g(kAngleTolerance, 2) << " deg RMS and surface speed within "
       << g(100 * kSpeedTolerance, 2) << " % of the DEM's RMS speed, at least " << g(kSpeedFloor, 2) << " m/s).\n\n";
     for (const auto& f : v.figures) m << figure(out, "closure_vs_dem/" + f, "closure vs coarse-grained DEM: " + f);

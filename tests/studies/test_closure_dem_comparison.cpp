@@ -52,6 +52,12 @@ TEST_CASE("Closure vs DEM: a planar DEM surface and a closure bed below its yiel
     CHECK(c.dem_speed[j] == Approx(U).epsilon(1e-12));
     CHECK(c.closure_speed[j] == 0);
   }
+  // The side walls: the box's 30 mm and barley-perspex sliding friction (studies/materials/report_table1.yaml);
+  // the closure with them and the 2-D one without are both at rest here.
+  CHECK(c.side_wall_width == Approx(0.03).epsilon(1e-12));
+  CHECK(c.side_wall_friction == 0.25);
+  CHECK(c.open_angle_deg == c.closure_angle_deg);
+  CHECK(c.open_speed == c.closure_speed);
   CHECK(c.angle_rms_error_deg == Approx(0).margin(1e-9));
   CHECK(c.speed_rms_error == Approx(U).epsilon(1e-12));
   CHECK(c.speed_max_error == Approx(U).epsilon(1e-12));
