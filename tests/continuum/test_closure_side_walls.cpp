@@ -76,7 +76,7 @@ TEST_CASE("side walls: a plug in a channel is held up to tan(theta) = tan(delta)
 TEST_CASE("side walls: a deep bed's surface is held up to tan(theta - beta) = tan(phi) + mu_w l / W", "[closure][side_walls]") {
   // h ≫ ℓ: the flowing layer a(h) = ℓ (1 − e^{−h/ℓ}) = ℓ to e^{−60}.
   const double W = 0.2, mu_w = 0.3, ell = 0.04;
-  const double surface_c = std::atan(std::tan(26.7 * kDeg) + mu_w * ell / W);  // 29.46° to the horizontal
+  const double surface_c = std::atan(std::tan(26.7 * kDeg) + mu_w * ell / W);  // 29.38° to the horizontal
   const SectionSettings s = channel(10, 50, 26.7, 14, ell, W, mu_w);
   const double theta = 20 * kDeg;
   for (const double off : {-0.02 * kDeg, +0.1 * kDeg}) {
