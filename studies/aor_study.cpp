@@ -1,5 +1,6 @@
 #include "studies/aor_study.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <set>
 
@@ -139,6 +140,21 @@ CalibrationStudy load_calibration_study(const std::string& file) {
   out.finish();
   root.finish();
   return s;
+}
+
+void select_cases(CalibrationStudy& study, const std::vector<std::string>& names) {
+  if (names.empty()) return;
+  std::string have;
+  for (const CalibrationCase& c : study.cases) have += (have.empty() ? "" : ", ") + c.name;
+  for (const std::string& n : names) {
+    const bool known = std::any_of(study.cases.begin(), study.cases.end(), [&](const CalibrationCase& c) { return c.name == n; });
+    if (!known) throw InputError("--case " + n + ": study " + study.file + " has no such case (its cases: " + have + ")");
+  }
+  std::vector<CalibrationCase> kept;
+  for (const CalibrationCase& c : study.cases) {
+    if (std::find(names.begin(), names.end(), c.name) != names.end()) kept.push_back(c);
+  }
+  study.cases = kept;
 }
 
 AorCase aor_case(const CalibrationStudy& study, const CalibrationCase& c, std::uint64_t seed,

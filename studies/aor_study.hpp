@@ -55,6 +55,11 @@ struct CalibrationStudy {
 /// Parse and validate; errors are InputError naming file, line, key and the allowed range.
 CalibrationStudy load_calibration_study(const std::string& file);
 
+/// Keeps only the cases named in `names` (in the study's order; empty: all), so that the cases of
+/// one study can run as separate processes into separate folders (`grainscale calibrate --case`).
+/// A name the study does not have is an InputError naming the study file and the cases it has.
+void select_cases(CalibrationStudy& study, const std::vector<std::string>& names);
+
 /// The AOR case of one run: the study's rig and timing, the case's grain, a seed and a materials file.
 AorCase aor_case(const CalibrationStudy& study, const CalibrationCase& c, std::uint64_t seed,
                  const std::string& materials_file);

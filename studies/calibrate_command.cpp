@@ -193,7 +193,8 @@ std::string report_md(const CalibrationStudy& s, const std::vector<CaseOutcome>&
 
 int run_calibrate(const CalibrateOptions& opt) {
   const auto t_start = std::chrono::steady_clock::now();
-  const CalibrationStudy s = load_calibration_study(opt.study_file);
+  CalibrationStudy s = load_calibration_study(opt.study_file);
+  select_cases(s, opt.cases);
   const std::string out = opt.output_override.empty() ? s.output_directory : opt.output_override;
   fs::create_directories(fs::path(out) / "inputs");
   fs::copy_file(opt.study_file, fs::path(out) / "inputs" / fs::path(opt.study_file).filename(),
@@ -205,7 +206,10 @@ int run_calibrate(const CalibrateOptions& opt) {
     std::cerr << "[calibrate] " << line << "\n";
     study_log << line << "\n" << std::flush;
   };
-  say("grainscale " + std::string(version) + " (" + git_revision + "), study " + opt.study_file + ", output " + out);
+  std::string case_names;
+  for (const CalibrationCase& c : s.cases) case_names += (case_names.empty() ? "" : ", ") + c.name;
+  say("grainscale " + std::string(version) + " (" + git_revision + "), study " + opt.study_file + ", output " + out +
+      ", cases " + case_names);
 
   // The materials at the run's scale (docs/scaling.md); the searched values are set on top.
   const dem::MaterialTable scaled = dem::scale_materials(dem::MaterialTable::load(s.materials_file), s.scaling);
@@ -335,8 +339,19 @@ int run_calibrate(const CalibrateOptions& opt) {
   return all_converged ? 0 : 1;
 }
 
-int calibrate_main(const std::vector<std::string>& positional, const std::string& out, const std::string& threads) {
-  if (positional.size() != 1) throw InputError("usage: grainscale calibrate STUDY.yaml [--out DIR] [--threads N]");
+int calibrate_main(const std::vector<std::string>& positional, const std::string& out, const std::string& threads,
+                   const std::vector<std::string>& cases) {
+  if (positional.size() != 1) {
+    throw InputError("usage: grainscale calibrate STUDY.yaml [--out DIR] [--threads N] [--case NAME[,NAME...]]");
+  }
+  std::vector<std::string> names;  // --case a,b --case c
+  for (const std::string& list : cases) {
+    std::stringstream in(list);
+    for (std::string n; std::getline(in, n, ',');) {
+      if (n.empty()) throw InputError("--case '" + list + "': an empty case name");
+      names.push_back(n);
+    }
+  }
   if (!threads.empty()) {
     int n = 0;
     try {
@@ -347,7 +362,7 @@ int calibrate_main(const std::vector<std::string>& positional, const std::string
     if (n < 1 || n > 1024) throw InputError("--threads must be in [1, 1024]");
     omp_set_num_threads(n);
   }
-  return run_calibrate({positional[0], out});
+  return run_calibrate({positional[0], out, names});
 }
 
 }  // namespace grainscale::studies

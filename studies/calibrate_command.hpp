@@ -1,5 +1,5 @@
 #pragma once
-// `grainscale calibrate STUDY.yaml [--out DIR] [--threads N]`: calibrate sliding and/or rolling
+// `grainscale calibrate STUDY.yaml [--out DIR] [--threads N] [--case NAME[,NAME]]`: calibrate sliding and/or rolling
 // friction against a measured angle of repose with the report's rig (docs/aor_calibration.md).
 //
 // For each case of the study: a bracketed search (studies/aor_search.hpp) over the case's parameters
@@ -22,13 +22,16 @@ namespace grainscale::studies {
 struct CalibrateOptions {
   std::string study_file;
   std::string output_override;  // replaces the study's output directory when not empty
+  std::vector<std::string> cases;  // run only these cases (empty: all); unknown names: InputError
 };
 
 /// Runs the study; returns 0 when every case converged, 1 when some did not (the report says why).
 /// Input problems throw grainscale::InputError.
 int run_calibrate(const CalibrateOptions& options);
 
-/// The subcommand: `positional` must be the one study file; `threads` a thread count or empty.
-int calibrate_main(const std::vector<std::string>& positional, const std::string& out, const std::string& threads);
+/// The subcommand: `positional` must be the one study file; `threads` a thread count or empty;
+/// `cases` the values of every --case option, each a name or a comma-separated list of names.
+int calibrate_main(const std::vector<std::string>& positional, const std::string& out, const std::string& threads,
+                   const std::vector<std::string>& cases = {});
 
 }  // namespace grainscale::studies

@@ -77,10 +77,11 @@ commands:
         diagnose the residual (symmetry, surface/bulk, harmonics, walls, c, whiteness),
         rank candidate effects by blocked cross-validation and BIC, add the winner
         if justified; loop.yaml, report.md (error before/after) and PNGs (docs/loop.md)
-  calibrate STUDY.yaml [--out DIR] [--threads N]
+  calibrate STUDY.yaml [--out DIR] [--threads N] [--case NAME[,NAME...]]
         calibrate sliding and/or rolling friction against measured angles of
         repose with the report's rig (pipe lifted off a tray); writes runs.csv,
-        calibrated materials, sensitivity PNGs and report.md (docs/aor_calibration.md)
+        calibrated materials, sensitivity PNGs and report.md (docs/aor_calibration.md);
+        --case (repeatable) runs only the named cases, e.g. one per process and --out
   shape SHAPE.yaml [--png FILE.png] [--density KG_M3 | --mass KG]
         check a particle shape: size against the measured size, volume, centroid,
         principal moments; with --mass, the density that gives that particle mass
@@ -116,6 +117,7 @@ struct Args {
   long steps = 20000;
   bool resume = false;
   std::string settled;  // bench: checkpoint of the settled state (read if present, else written)
+  std::vector<std::string> cases;  // calibrate: every --case value
 };
 
 Args parse(int argc, char** argv, int first) {
@@ -144,6 +146,7 @@ Args parse(int argc, char** argv, int first) {
     else if (s == "--threads") a.threads = value("--threads");
     else if (s == "--resume") a.resume = true;
     else if (s == "--settled") a.settled = value("--settled");
+    else if (s == "--case") a.cases.push_back(value("--case"));
     else if (s == "--steps") {
       const std::string v = value("--steps");
       try {
@@ -326,7 +329,7 @@ int main(int argc, char** argv) {
     if (cmd == "hold") return studies::hold_command(a.positional, a.out);
     if (cmd == "fit") return studies::fit_command(a.positional, a.out);
     if (cmd == "loop") return studies::loop_command(a.positional, a.out);
-    if (cmd == "calibrate") return studies::calibrate_main(a.positional, a.out, a.threads);
+    if (cmd == "calibrate") return studies::calibrate_main(a.positional, a.out, a.threads, a.cases);
     if (cmd == "shape") return run_shape(a);
     if (cmd == "version") {
       std::cout << "grainscale " << version << " (" << git_revision << ")\n";

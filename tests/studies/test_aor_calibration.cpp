@@ -168,6 +168,25 @@ TEST_CASE("The calibration study file loads, and bad ones are rejected with file
   CHECK_THROWS_AS(load_text(replace(text, "tolerance_deg: 0.5", "tolerance_deg: -1")), InputError);
 }
 
+TEST_CASE("--case keeps the named cases of a calibration study; an unknown name names the study and its cases",
+          "[studies][aor]") {
+  const std::string file = (kSource / "studies/aor_calibration.yaml").string();
+  const CalibrationStudy all = load_calibration_study(file);
+  REQUIRE(all.cases.size() >= 4);
+  CalibrationStudy s = all;
+  select_cases(s, {});
+  CHECK(s.cases.size() == all.cases.size());
+  select_cases(s, {"wheat", "barley"});  // kept in the study's order
+  REQUIRE(s.cases.size() == 2);
+  CHECK(s.cases[0].name == "barley");
+  CHECK(s.cases[1].name == "wheat");
+  s = all;
+  CHECK_THROWS_AS(select_cases(s, {"barley", "oats"}), InputError);
+  CHECK_THROWS_WITH(select_cases(s, {"oats"}),
+                    Contains("oats") && Contains("aor_calibration.yaml") && Contains("barley, wheat, lentils, chaff"));
+  CHECK(s.cases.size() == all.cases.size());  // a failed selection leaves the study as it was
+}
+
 TEST_CASE("A materials table written back loads as the same table", "[studies][aor]") {
   dem::MaterialTable t = dem::MaterialTable::load((kSource / "studies/materials/report_table1.yaml").string());
   set_pair_property(t, "barley-barley", "friction", 0.4123456789, "test");
