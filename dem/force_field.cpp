@@ -75,14 +75,16 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
                                           const std::vector<Wall>& walls, double dt) {
   const std::size_t n = p.size();
   const std::size_t entries = nl.entries();
-  pair_.resize(entries);
+  partner_share_.resize(entries);
   resize(n);
   if (list_generation_ != nl.generation() || touching_.size() != entries) {
     // A new list: flag every entry whose carried-over history is non-zero (then cleared if apart).
     touching_.resize(entries);
-    for (std::size_t k = 0; k < entries; ++k) {
-      const ContactHistory& h = nl.history(static_cast<std::uint32_t>(k));
+    partner_touching_.resize(entries);
+    for (std::uint32_t k = 0; k < entries; ++k) {
+      const ContactHistory& h = nl.history(k);
       touching_[k] = norm2(h.shear) != 0 || norm2(h.rolling) != 0;
+      partner_touching_[nl.rev_position(k)] = touching_[k];
     }
     list_generation_ = nl.generation();
   }
@@ -90,12 +92,15 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
   std::size_t contacts = 0, wall_contacts = 0;
   double worst_ratio = 0, stiff_pair = 0;  // stiff_*: max S_n / m* (for the omega dt monitor)
 
-  // Pass 1: every pair once.
+  // Pass 1: every pair once, by its owner i. The owner's share is summed here, in entry order; the
+  // partner's share is stored at the entry's place in the partner's reverse range, so that pass 2
+  // reads it in order (a scattered write here instead of a scattered read there).
 #pragma omp parallel for if(n >= parallel_min_items()) schedule(dynamic, 128) reduction(+ : contacts) reduction(max : worst_ratio, stiff_pair)
   for (std::size_t i = 0; i < n; ++i) {
     const Vec3 xi = p.x[i], vi = p.v[i], wi = p.omega[i];
     const double ri = p.radius[i];
     const int mi = p.material[i];
+    Vec3 fi{}, ti_sum{};
     for (std::uint32_t k = nl.begin(i); k < nl.end(i); ++k) {
       const std::uint32_t j = nl.partner(k);
       const Vec3 d = xi - p.x[j];
@@ -105,6 +110,7 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
         if (touching_[k]) {  // contact broken: history starts afresh next time
           nl.history(k) = {};
           touching_[k] = 0;
+          partner_touching_[nl.rev_position(k)] = 0;
         }
         continue;
       }
@@ -132,13 +138,19 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
       Vec3 ti, tj;
       Rolling::evaluate(m.rolling[pair], c, f, h, ti, tj);
       const Vec3 nxft = cross(c.n, f.tangential);
-      pair_[k] = {f.force, ti - c.lever_i * nxft, tj - c.lever_j * nxft};
+      fi += f.force;
+      ti_sum += ti - c.lever_i * nxft;
+      const std::uint32_t r = nl.rev_position(k);
+      partner_share_[r] = {f.force, tj - c.lever_j * nxft};
+      partner_touching_[r] = 1;
       worst_ratio = std::max(worst_ratio, c.overlap / std::min(ri, p.radius[j]));
       stiff_pair = std::max(stiff_pair, f.stiffness / c.m_eff);
     }
+    p.force[i] = fi;
+    p.torque[i] = ti_sum;
   }
 
-  // Pass 2: gather per sphere in a fixed order, and the sphere's wall contacts. (Gravity acts on
+  // Pass 2: add the partner shares in reverse-range order, and the sphere's wall contacts. (Gravity acts on
   // bodies: Simulation adds it when it sums the spheres of each body.) Dynamic schedule: slots are in
   // z-major cell order, so a static split would hand one thread the whole floor layer and with it
   // every wall contact of a settled bed.
@@ -148,17 +160,11 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
 #pragma omp parallel for if(n >= parallel_min_items()) schedule(dynamic, 128) reduction(+ : wall_contacts) reduction(min : bad, overflow) \
     reduction(max : worst_wall, stiff_wall)
   for (std::size_t i = 0; i < n; ++i) {
-    Vec3 f{}, t{};
-    for (std::uint32_t k = nl.begin(i); k < nl.end(i); ++k) {
-      if (!touching_[k]) continue;
-      f += pair_[k].force;
-      t += pair_[k].torque_i;
-    }
+    Vec3 f = p.force[i], t = p.torque[i];  // the owner's share, from pass 1
     for (std::uint32_t r = nl.rev_begin(i); r < nl.rev_end(i); ++r) {
-      const std::uint32_t k = nl.rev_entry(r);
-      if (!touching_[k]) continue;
-      f -= pair_[k].force;
-      t += pair_[k].torque_j;
+      if (!partner_touching_[r]) continue;
+      f -= partner_share_[r].force;
+      t += partner_share_[r].torque;
     }
 
     // Wall contacts; histories found by (wall, feature) among last step's contacts of this particle.
@@ -300,7 +306,7 @@ ContactEnergy ForceField::contact_energy(const Particles& p, const NeighborList&
 }
 
 std::size_t ForceField::bytes() const {
-  return pair_.capacity() * sizeof(PairRecord) + touching_.capacity() +
+  return partner_share_.capacity() * sizeof(PartnerShare) + touching_.capacity() + partner_touching_.capacity() +
          (wall_slots_.capacity() + wall_scratch_.capacity()) * sizeof(WallSlot);
 }
 

@@ -3,12 +3,13 @@
 // neighbour list and sphere-wall contacts. (Bodies add gravity when they sum their spheres.) The loop is written once (force_field.cpp) and instantiated for each
 // contact/rolling model pair; models are small evaluator structs in dem/contact/.
 //
-// Pass 1 runs over neighbour-list entries (owner slot in parallel) and writes one record per entry
-// in contact; pass 2 runs over spheres and sums, in a fixed order, the records that involve the
-// sphere and its wall contacts. Most entries of a bed are not in contact (the skin): a one-byte flag
-// per entry says which records are current, so pass 1 writes nothing and pass 2 reads nothing for
-// them (the per-entry traffic bounded the step: docs/performance.md). No two threads write the same memory, so results are bitwise identical
-// for any thread count.
+// Pass 1 runs over neighbour-list entries (owner slot in parallel): it sums the owner's share of
+// its contacts and stores the partner's share at the entry's place in the partner's reverse range;
+// pass 2 runs over spheres and adds, in that fixed order, the partner shares and the wall contacts.
+// Most entries of a bed are not in contact (the skin): a one-byte flag per entry says which shares
+// are current, so pass 1 writes nothing and pass 2 reads nothing for them (the per-entry traffic
+// bounded the step: docs/performance.md). No two threads write the same memory, so results are
+// bitwise identical for any thread count.
 #include <cstdint>
 #include <variant>
 #include <vector>
@@ -98,15 +99,16 @@ class ForceField {
 
   AnyModels models_;
   std::vector<int> wall_material_;
-  /// What a pair contact puts on its two spheres (forces on j are -force).
-  struct PairRecord {
-    Vec3 force, torque_i, torque_j;
+  /// What a pair contact puts on its partner j: -force and torque (indexed by reverse position).
+  struct PartnerShare {
+    Vec3 force, torque;
   };
-  std::vector<PairRecord> pair_;
-  // touching_[k]: entry k was in contact at the last compute, so pair_[k] is current and its history
-  // may be non-zero. Invariant: touching_[k] == 0 implies a zero history, so a pair that stays apart
-  // costs no writes. Rebuilt from the histories when the list changes (generation).
-  std::vector<std::uint8_t> touching_;
+  std::vector<PartnerShare> partner_share_;
+  // touching_[k]: entry k was in contact at the last compute, so its history may be non-zero and
+  // partner_share_[rev_position(k)] is current; partner_touching_ is the same flag at the reverse
+  // position. Invariant: touching_[k] == 0 implies a zero history, so a pair that stays apart costs
+  // no writes. Both rebuilt from the histories when the list changes (generation).
+  std::vector<std::uint8_t> touching_, partner_touching_;
   std::uint64_t list_generation_ = ~std::uint64_t{0};
   std::vector<WallSlot> wall_slots_, wall_scratch_;  // kWallSlots per particle; the first wall_count_[i] used
   std::vector<std::uint8_t> wall_count_, count_scratch_;

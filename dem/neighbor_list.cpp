@@ -143,7 +143,12 @@ void NeighborList::index_partners(std::size_t n) {
   for (std::size_t i = 0; i < n; ++i) rev_start_[i + 1] += rev_start_[i];
   rev_fill_.assign(rev_start_.begin(), rev_start_.end() - 1);
   rev_entry_.resize(partner_.size());
-  for (std::uint32_t k = 0; k < partner_.size(); ++k) rev_entry_[rev_fill_[partner_[k]]++] = k;
+  rev_position_.resize(partner_.size());
+  for (std::uint32_t k = 0; k < partner_.size(); ++k) {
+    const std::uint32_t r = rev_fill_[partner_[k]]++;
+    rev_entry_[r] = k;
+    rev_position_[k] = r;
+  }
 }
 
 void NeighborList::restore(const Particles& p, double skin, std::vector<std::uint32_t> start,
@@ -185,7 +190,7 @@ void NeighborList::restore(const Particles& p, double skin, std::vector<std::uin
 std::size_t NeighborList::bytes() const {
   return cell_start_.capacity() * 4 + cell_index_.capacity() * 4 + order_.capacity() * 4 +
          (start_.capacity() + partner_.capacity() + count_.capacity() + old_start_.capacity() +
-          old_partner_.capacity() + rev_start_.capacity() + rev_entry_.capacity() + rev_fill_.capacity()) *
+          old_partner_.capacity() + rev_start_.capacity() + rev_entry_.capacity() + rev_position_.capacity() + rev_fill_.capacity()) *
              4 +
          (history_.capacity() + old_history_.capacity()) * sizeof(ContactHistory);
 }

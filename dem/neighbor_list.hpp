@@ -40,7 +40,9 @@ class NeighborList {
   std::uint32_t end(std::size_t i) const { return start_[i + 1]; }
   std::uint32_t rev_begin(std::size_t i) const { return rev_start_[i]; }
   std::uint32_t rev_end(std::size_t i) const { return rev_start_[i + 1]; }
-  std::uint32_t rev_entry(std::uint32_t k) const { return rev_entry_[k]; }
+  std::uint32_t rev_entry(std::uint32_t r) const { return rev_entry_[r]; }
+  /// Where entry k sits in its partner's reverse range: rev_entry(rev_position(k)) == k.
+  std::uint32_t rev_position(std::uint32_t k) const { return rev_position_[k]; }
   std::uint32_t partner(std::uint32_t k) const { return partner_[k]; }
   ContactHistory& history(std::uint32_t k) { return history_[k]; }
   const ContactHistory& history(std::uint32_t k) const { return history_[k]; }
@@ -81,7 +83,7 @@ class NeighborList {
   std::vector<ContactHistory> history_;
   std::vector<std::uint32_t> old_start_, old_partner_;
   std::vector<ContactHistory> old_history_;
-  std::vector<std::uint32_t> rev_start_, rev_entry_, rev_fill_;
+  std::vector<std::uint32_t> rev_start_, rev_entry_, rev_position_, rev_fill_;
   double skin_ = 0;
   std::size_t builds_ = 0;
   std::uint64_t generation_ = 0;
