@@ -81,7 +81,7 @@ std::uint64_t Simulation::add_clump(const Shape& shape, int material, double den
     shape_index = static_cast<int>(shape_names_.size()) - 1;
   }
   for (const auto& c : shape.spheres) check_step_for(material, c.radius);
-  const MassProperties mp = union_mass_properties(shape.spheres);
+  const MassProperties& mp = mass_properties_of(shape);
   const double mass = density * mp.volume;
   const Vec3 inertia = density * mp.principal_moments;
   // Body frame = principal frame; the user's orientation turns the shape file's frame into the world.
@@ -96,6 +96,20 @@ std::uint64_t Simulation::add_clump(const Shape& shape, int material, double den
                              inertia.x, mass * c.radius * c.radius * c.radius / sum_r3, x + rotate(q, off));
   }
   return body;
+}
+
+const MassProperties& Simulation::mass_properties_of(const Shape& shape) {
+  // A pour adds thousands of clumps of a few shapes; the union integral takes about a millisecond.
+  auto same = [](const std::vector<SphereComponent>& a, const std::vector<SphereComponent>& b) {
+    return std::equal(a.begin(), a.end(), b.begin(), b.end(), [](const SphereComponent& p, const SphereComponent& q) {
+      return p.radius == q.radius && p.center.x == q.center.x && p.center.y == q.center.y && p.center.z == q.center.z;
+    });
+  };
+  for (const auto& [spheres, mp] : mass_cache_) {
+    if (same(spheres, shape.spheres)) return mp;
+  }
+  mass_cache_.emplace_back(shape.spheres, union_mass_properties(shape.spheres));
+  return mass_cache_.back().second;
 }
 
 void Simulation::add_wall(std::string name, std::shared_ptr<const WallGeometry> geometry, int material,
@@ -461,40 +475,75 @@ inline Vec3 body_angular_velocity(const Quat& q, const Vec3& L, const Vec3& iner
 }
 }  // namespace
 
-void Simulation::kick(double half_dt) {
+void Simulation::drift(double dt) {
+  // Per body: half kick, drift, free rotation; then its spheres follow (one parallel pass instead of
+  // a body pass and a sphere pass: docs/performance.md).
   Bodies& b = bodies_;
-  const std::size_t n = b.size();
-#pragma omp parallel for if(n >= parallel_min_items()) schedule(static)
-  for (std::size_t k = 0; k < n; ++k) {
-    b.v[k] += (half_dt * b.inv_mass[k]) * b.force[k];
-    b.L[k] += half_dt * b.torque[k];
-    b.omega[k] = body_angular_velocity(b.q[k], b.L[k], b.inertia[k]);
-  }
-}
-
-void Simulation::step() {
-  if (!ready_) setup();
-  Bodies& b = bodies_;
+  Particles& p = particles_;
   const std::size_t nb = b.size();
-  const double dt = dt_, half = 0.5 * dt_;
-  // Half kick and drift of the bodies in one parallel pass.
-#pragma omp parallel for if(nb >= parallel_min_items()) schedule(static)
+  const double half = 0.5 * dt;
+  // Particles added since the last neighbour build (a pour) are not in the body -> sphere index yet.
+  if (b.sphere_start.size() != nb + 1 || b.sphere_slot.size() != p.size()) index_spheres_by_body();
+  double moved2 = 0;
+#pragma omp parallel for if(nb >= parallel_min_items()) schedule(static) reduction(max : moved2)
   for (std::size_t k = 0; k < nb; ++k) {
     b.v[k] += (half * b.inv_mass[k]) * b.force[k];
     b.L[k] += half * b.torque[k];
     b.x[k] += dt * b.v[k];
     free_rotation_step(b.q[k], b.L[k], b.inertia[k], dt);
     b.omega[k] = body_angular_velocity(b.q[k], b.L[k], b.inertia[k]);
+    for (std::uint32_t m = b.sphere_start[k]; m < b.sphere_start[k + 1]; ++m) {
+      const std::uint32_t s = b.sphere_slot[m];
+      const Vec3 r = rotate(b.q[k], p.offset[s]);
+      p.x[s] = b.x[k] + r;
+      p.q[s] = b.q[k];
+      moved2 = std::max(moved2, norm2(p.x[s] - p.x_at_build[s]));
+      p.v[s] = b.v[k] + cross(b.omega[k], r);
+      p.omega[s] = b.omega[k];
+    }
   }
-  time_ += dt;
+  moved2_ = moved2;
+}
+
+void Simulation::kick_after_forces(double half_dt) {
+  // Per body: sum its spheres' contact forces (plus gravity), half kick; then its spheres take the
+  // new velocities (for output and diagnostics). Same sums as sum_forces_on_bodies, in one pass.
+  Bodies& b = bodies_;
+  Particles& p = particles_;
+  const std::size_t nb = b.size();
+  const Vec3 g = settings_.gravity;
+#pragma omp parallel for if(nb >= parallel_min_items()) schedule(static)
+  for (std::size_t k = 0; k < nb; ++k) {
+    Vec3 f{}, t{};
+    for (std::uint32_t m = b.sphere_start[k]; m < b.sphere_start[k + 1]; ++m) {
+      const std::uint32_t s = b.sphere_slot[m];
+      f += p.force[s];
+      t += cross(p.x[s] - b.x[k], p.force[s]) + p.torque[s];
+    }
+    b.force[k] = f + b.mass[k] * g;
+    b.torque[k] = t;
+    b.v[k] += (half_dt * b.inv_mass[k]) * b.force[k];
+    b.L[k] += half_dt * b.torque[k];
+    b.omega[k] = body_angular_velocity(b.q[k], b.L[k], b.inertia[k]);
+    for (std::uint32_t m = b.sphere_start[k]; m < b.sphere_start[k + 1]; ++m) {
+      const std::uint32_t s = b.sphere_slot[m];
+      p.v[s] = b.v[k] + cross(b.omega[k], rotate(b.q[k], p.offset[s]));
+      p.omega[s] = b.omega[k];
+    }
+  }
+}
+
+void Simulation::step() {
+  if (!ready_) setup();
+  drift(dt_);
+  time_ += dt_;
   ++steps_;
   for (Wall& w : walls_) w.move_to(time_);
-  move_spheres_with_bodies(true);
   if (neighbors_.stale(particles_, moved2_)) rebuild();
-  compute_forces();
+  diag_ = forces_.compute(particles_, neighbors_, walls_, dt_);
+  check_health();
   if (settings_.stability_interval > 0 && steps_ % settings_.stability_interval == 0) check_stability();
-  kick(half);
-  move_spheres_with_bodies(false);  // sphere velocities at the full step, for output and diagnostics
+  kick_after_forces(0.5 * dt_);
 }
 
 const StepStability& Simulation::check_stability() {

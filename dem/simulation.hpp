@@ -14,10 +14,12 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "dem/bodies.hpp"
 #include "dem/force_field.hpp"
+#include "dem/mass_properties.hpp"
 #include "dem/material.hpp"
 #include "dem/neighbor_list.hpp"
 #include "dem/particles.hpp"
@@ -142,7 +144,9 @@ class Simulation {
   std::uint64_t add_body(double mass, const Vec3& inertia, const Vec3& x, const Quat& q, const Vec3& v,
                          const Vec3& omega, int shape);
   void check_step_for(int material, double radius) const;
-  void kick(double half_dt);
+  const MassProperties& mass_properties_of(const Shape& shape);
+  void drift(double dt);                   // half kick, drift, spheres follow
+  void kick_after_forces(double half_dt);  // sum forces per body, half kick, sphere velocities
   void move_spheres_with_bodies(bool positions);
   void index_spheres_by_body();
   void sum_forces_on_bodies();
@@ -162,6 +166,8 @@ class Simulation {
   std::uint64_t steps_ = 0, next_sphere_id_ = 0;
   double moved2_ = 0;  // largest squared sphere displacement since the last neighbour build
   std::vector<std::uint32_t> body_fill_;  // scratch for index_spheres_by_body
+  /// Mass properties of each distinct sphere set added so far (mass_properties_of).
+  std::vector<std::pair<std::vector<SphereComponent>, MassProperties>> mass_cache_;
   bool ready_ = false;
 };
 
