@@ -2,6 +2,7 @@
 // and greatest inertia is stable, about the intermediate axis it is not (the body flips over and back
 // periodically: the Dzhanibekov effect). Energy and |L| are constants of the motion.
 #include <catch2/catch.hpp>
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <vector>
@@ -96,4 +97,25 @@ TEST_CASE("The rotation integrator converges at second order", "[dem][rigid]") {
   const double rate = std::log2(e1 / e2);
   INFO("errors " << e1 << ", " << e2 << ", rate " << rate);
   CHECK(rate > 2 - 0.1);
+}
+
+TEST_CASE("The sub-step's sine and cosine agree with libm to round-off at every angle", "[rotation]") {
+  // detail::sin_cos switches from a Taylor series to libm at |x| = 0.01: both sides of the switch,
+  // tiny angles and large ones must give the libm values within 2 units in the last place.
+  auto ulps = [](double a, double b) { return std::abs(a - b) / std::max(std::nextafter(std::abs(b), 1e300) - std::abs(b), 1e-300); };
+  const double xs[] = {0.0, 1e-300, 1e-12, 3e-6, 1e-4, 2.5e-3, 0.0099999, 0.01, 0.0100001, 0.3, 2.0, -1e-4, -0.0099};
+  for (double x : xs) {
+    double s = 0, c = 0;
+    detail::sin_cos(x, s, c);
+    INFO("x = " << x);
+    CHECK(ulps(s, std::sin(x)) <= 2);
+    CHECK(ulps(c, std::cos(x)) <= 2);
+  }
+  for (int k = 1; k <= 1000; ++k) {  // a dense sweep below the switch, where the series is used
+    const double x = 1e-5 * k;
+    double s = 0, c = 0;
+    detail::sin_cos(x, s, c);
+    REQUIRE(ulps(s, std::sin(x)) <= 2);
+    REQUIRE(ulps(c, std::cos(x)) <= 2);
+  }
 }
