@@ -4,7 +4,9 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdint>
 #include <cstring>
+#include <ctime>
 #include <filesystem>
 #include <iostream>
 #include <sstream>
@@ -189,6 +191,17 @@ int run_dem(const Args& a) {
   return 0;
 }
 
+/// FNV-1a over the bytes of the bodies' positions, orientations, velocities and angular momenta.
+std::uint64_t state_fingerprint(const dem::Bodies& b) {
+  std::uint64_t h = 1469598103934665603ull;
+  auto add = [&](const auto& v) {
+    const auto* bytes = reinterpret_cast<const unsigned char*>(v.data());
+    for (std::size_t k = 0; k < v.size() * sizeof(v[0]); ++k) h = (h ^ bytes[k]) * 1099511628211ull;
+  };
+  add(b.x), add(b.q), add(b.v), add(b.L);
+  return h;
+}
+
 int run_bench(const Args& a) {
   if (a.positional.size() != 1) throw InputError("usage: grainscale bench SCENARIO.yaml [--steps N] [--threads LIST] [--settled CHECKPOINT.h5]");
   const dem::Scenario sc = dem::load_scenario(a.positional[0]);
@@ -228,13 +241,23 @@ int run_bench(const Args& a) {
     copy.run_steps(200);  // warm caches and buffers
     const std::size_t builds0 = copy.neighbors().builds();
     const auto t0 = std::chrono::steady_clock::now();
+    const std::clock_t c0 = std::clock();
     copy.run_steps(static_cast<std::uint64_t>(a.steps));
     const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const double cpu = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;  // all threads
     const double rate = static_cast<double>(a.steps) * copy.particles().size() / s;
     if (base == 0) base = rate;
     std::printf("threads %d: %ld steps in %.3f s = %.3f M sphere-steps/s (%.2fx of first), %.3g contacts/s, "
                 "%zu neighbour-list builds\n", threads, a.steps, s, rate / 1e6, rate / base,
                 static_cast<double>(copy.diagnostics().contacts) * a.steps / s, copy.neighbors().builds() - builds0);
+    // Every thread count (and every build of the code that claims to leave results unchanged) must
+    // end in the same state, bit for bit: a fingerprint of the bodies' state says whether it did.
+    const dem::Energy e = copy.energy();
+    // CPU time: on a shared machine the fairer figure of the work done (other jobs stretch the wall clock).
+    std::printf("threads %d: CPU %.3f s = %.3f M sphere-steps per CPU second; end state: kinetic energy %.6e J, "
+                "%zu contacts, fingerprint %016llx\n", threads, cpu, static_cast<double>(a.steps) * copy.particles().size() / cpu / 1e6,
+                e.kinetic_translation + e.kinetic_rotation, copy.diagnostics().contacts,
+                static_cast<unsigned long long>(state_fingerprint(copy.bodies())));
   }
   return 0;
 }
