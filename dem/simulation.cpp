@@ -312,6 +312,7 @@ void Simulation::restore(SimulationState&& s) {
   forces_.restore_wall_contacts(s.wall_count, s.wall_slots, walls_.size());
   neighbors_ = std::move(nl);
   particles_ = std::move(p);
+  sphere_velocities_lag_ = false;
   bodies_ = std::move(b);
   shape_names_ = std::move(s.shape_names);
   time_ = s.time;
@@ -476,24 +477,27 @@ inline Vec3 body_angular_velocity(const Quat& q, const Vec3& L, const Vec3& iner
 }  // namespace
 
 void Simulation::drift(double dt) {
-  // Per body: half kick, drift, free rotation; then its spheres follow (one parallel pass instead of
-  // a body pass and a sphere pass: docs/performance.md).
+  // Half kick, drift and free rotation of the bodies, then the spheres follow: one parallel region
+  // with two loops. The sphere loop runs over slots (cell order) and reads its body, which is cheaper
+  // than each body writing its spheres (slots scattered over the arrays; measured: docs/performance.md).
   Bodies& b = bodies_;
   Particles& p = particles_;
-  const std::size_t nb = b.size();
+  const std::size_t nb = b.size(), n = p.size();
   const double half = 0.5 * dt;
-  // Particles added since the last neighbour build (a pour) are not in the body -> sphere index yet.
-  if (b.sphere_start.size() != nb + 1 || b.sphere_slot.size() != p.size()) index_spheres_by_body();
   double moved2 = 0;
-#pragma omp parallel for if(nb >= parallel_min_items()) schedule(static) reduction(max : moved2)
-  for (std::size_t k = 0; k < nb; ++k) {
-    b.v[k] += (half * b.inv_mass[k]) * b.force[k];
-    b.L[k] += half * b.torque[k];
-    b.x[k] += dt * b.v[k];
-    free_rotation_step(b.q[k], b.L[k], b.inertia[k], dt);
-    b.omega[k] = body_angular_velocity(b.q[k], b.L[k], b.inertia[k]);
-    for (std::uint32_t m = b.sphere_start[k]; m < b.sphere_start[k + 1]; ++m) {
-      const std::uint32_t s = b.sphere_slot[m];
+#pragma omp parallel if(n >= parallel_min_items())
+  {
+#pragma omp for schedule(static)
+    for (std::size_t k = 0; k < nb; ++k) {
+      b.v[k] += (half * b.inv_mass[k]) * b.force[k];
+      b.L[k] += half * b.torque[k];
+      b.x[k] += dt * b.v[k];
+      free_rotation_step(b.q[k], b.L[k], b.inertia[k], dt);
+      b.omega[k] = body_angular_velocity(b.q[k], b.L[k], b.inertia[k]);
+    }
+#pragma omp for schedule(static) reduction(max : moved2)
+    for (std::size_t s = 0; s < n; ++s) {
+      const std::uint32_t k = p.body[s];
       const Vec3 r = rotate(b.q[k], p.offset[s]);
       p.x[s] = b.x[k] + r;
       p.q[s] = b.q[k];
@@ -506,10 +510,10 @@ void Simulation::drift(double dt) {
 }
 
 void Simulation::kick_after_forces(double half_dt) {
-  // Per body: sum its spheres' contact forces (plus gravity), half kick; then its spheres take the
-  // new velocities (for output and diagnostics). Same sums as sum_forces_on_bodies, in one pass.
+  // Per body: sum its spheres' contact forces (plus gravity), then the half kick, in one pass. The
+  // spheres' velocities now lag their bodies' until someone looks (update_sphere_velocities).
   Bodies& b = bodies_;
-  Particles& p = particles_;
+  const Particles& p = particles_;
   const std::size_t nb = b.size();
   const Vec3 g = settings_.gravity;
 #pragma omp parallel for if(nb >= parallel_min_items()) schedule(static)
@@ -525,12 +529,24 @@ void Simulation::kick_after_forces(double half_dt) {
     b.v[k] += (half_dt * b.inv_mass[k]) * b.force[k];
     b.L[k] += half_dt * b.torque[k];
     b.omega[k] = body_angular_velocity(b.q[k], b.L[k], b.inertia[k]);
-    for (std::uint32_t m = b.sphere_start[k]; m < b.sphere_start[k + 1]; ++m) {
-      const std::uint32_t s = b.sphere_slot[m];
-      p.v[s] = b.v[k] + cross(b.omega[k], rotate(b.q[k], p.offset[s]));
-      p.omega[s] = b.omega[k];
-    }
   }
+  sphere_velocities_lag_ = true;
+}
+
+void Simulation::update_sphere_velocities() const {
+  // The spheres' velocities at the full step are for output and diagnostics only (the next drift
+  // sets them afresh before any force uses them), so they are brought up to date on demand. They
+  // are a cache of the bodies' state, hence const.
+  Particles& p = const_cast<Particles&>(particles_);
+  const Bodies& b = bodies_;
+  const std::size_t n = p.size();
+#pragma omp parallel for if(n >= parallel_min_items()) schedule(static)
+  for (std::size_t s = 0; s < n; ++s) {
+    const std::uint32_t k = p.body[s];
+    p.v[s] = b.v[k] + cross(b.omega[k], rotate(b.q[k], p.offset[s]));
+    p.omega[s] = b.omega[k];
+  }
+  sphere_velocities_lag_ = false;
 }
 
 void Simulation::step() {

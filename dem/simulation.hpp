@@ -102,8 +102,14 @@ class Simulation {
   std::string time_step_report() const;
 
   /// The component spheres (what contacts act on).
-  Particles& particles() { return particles_; }
-  const Particles& particles() const { return particles_; }
+  Particles& particles() {
+    if (sphere_velocities_lag_) update_sphere_velocities();
+    return particles_;
+  }
+  const Particles& particles() const {
+    if (sphere_velocities_lag_) update_sphere_velocities();
+    return particles_;
+  }
   /// The rigid bodies (what is integrated).
   const Bodies& bodies() const { return bodies_; }
   const std::vector<std::string>& shape_names() const { return shape_names_; }
@@ -146,7 +152,8 @@ class Simulation {
   void check_step_for(int material, double radius) const;
   const MassProperties& mass_properties_of(const Shape& shape);
   void drift(double dt);                   // half kick, drift, spheres follow
-  void kick_after_forces(double half_dt);  // sum forces per body, half kick, sphere velocities
+  void kick_after_forces(double half_dt);  // sum forces per body, half kick
+  void update_sphere_velocities() const;
   void move_spheres_with_bodies(bool positions);
   void index_spheres_by_body();
   void sum_forces_on_bodies();
@@ -169,6 +176,7 @@ class Simulation {
   /// Mass properties of each distinct sphere set added so far (mass_properties_of).
   std::vector<std::pair<std::vector<SphereComponent>, MassProperties>> mass_cache_;
   bool ready_ = false;
+  mutable bool sphere_velocities_lag_ = false;  // the spheres' v, omega are behind their bodies'
 };
 
 }  // namespace grainscale::dem
