@@ -87,6 +87,9 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
       partner_touching_[nl.rev_position(k)] = touching_[k];
     }
     list_generation_ = nl.generation();
+    find_near_walls(p, walls, nl.skin());
+  } else if (!walls_where_found(walls)) {
+    find_near_walls(p, walls, nl.skin());
   }
 
   std::size_t contacts = 0, wall_contacts = 0;
@@ -175,7 +178,9 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
     int used = 0;
     const Vec3 xi = p.x[i], vi = p.v[i], wi = p.omega[i];
     const double ri = p.radius[i];
+    const std::uint32_t near = near_walls_[i];
     for (std::size_t w = 0; w < walls.size(); ++w) {
+      if (w < kMaskedWalls && !(near >> w & 1u)) continue;  // out of reach until the next list build
       UninitializedArray<WallContact, kWallSlots + 1> wc;
       const int found = walls[w].contacts(xi, ri, wc.data(), kWallSlots + 1);
       for (int q = 0; q < found; ++q) {
@@ -231,6 +236,49 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
   d.bad_slot = bad == std::numeric_limits<std::int64_t>::max() ? -1 : bad;
   d.slot_overflow = overflow == std::numeric_limits<std::int64_t>::max() ? -1 : overflow;
   return d;
+}
+
+void ForceField::find_near_walls(const Particles& p, const std::vector<Wall>& walls, double skin) {
+  // A static wall can touch sphere i before the next list build only if it is within r_i + skin/2 of
+  // where the sphere is now (the list is rebuilt once a sphere has moved skin/2); a whole skin
+  // leaves room for round-off. A moving wall, or one beyond the mask, is always asked.
+  const std::size_t n = p.size();
+  near_walls_.resize(n);
+  std::uint32_t always = 0;
+  for (std::size_t w = 0; w < std::min(walls.size(), kMaskedWalls); ++w) {
+    if (walls[w].moving()) always |= 1u << w;
+  }
+#pragma omp parallel for if(n >= parallel_min_items()) schedule(static)
+  for (std::size_t i = 0; i < n; ++i) {
+    std::uint32_t near = always;
+    for (std::size_t w = 0; w < std::min(walls.size(), kMaskedWalls); ++w) {
+      if (near >> w & 1u) continue;
+      WallContact wc[kWallSlots + 1];
+      if (walls[w].contacts(p.x[i], p.radius[i] + skin, wc, kWallSlots + 1) > 0) near |= 1u << w;
+    }
+    near_walls_[i] = near;
+  }
+  mask_poses_.clear();
+  for (const Wall& w : walls) mask_poses_.push_back(w.pose());
+  mask_moving_ = always;
+}
+
+bool ForceField::walls_where_found(const std::vector<Wall>& walls) const {
+  // The masks hold for static walls where they were when the masks were made (a wall given a new
+  // pose between steps, or a wall added, needs new masks).
+  if (mask_poses_.size() != walls.size() || near_walls_.empty()) return false;
+  for (std::size_t w = 0; w < walls.size(); ++w) {
+    if (w < kMaskedWalls && walls[w].moving() != static_cast<bool>(mask_moving_ >> w & 1u)) return false;
+    if (walls[w].moving()) continue;
+    const WallPose& a = walls[w].pose();
+    const WallPose& b = mask_poses_[w];
+    if (a.origin.x != b.origin.x || a.origin.y != b.origin.y || a.origin.z != b.origin.z ||
+        a.orientation.w != b.orientation.w || a.orientation.x != b.orientation.x ||
+        a.orientation.y != b.orientation.y || a.orientation.z != b.orientation.z) {
+      return false;
+    }
+  }
+  return true;
 }
 
 void ForceField::permute(const std::vector<std::uint32_t>& new_to_old) {
@@ -307,6 +355,7 @@ ContactEnergy ForceField::contact_energy(const Particles& p, const NeighborList&
 
 std::size_t ForceField::bytes() const {
   return partner_share_.capacity() * sizeof(PartnerShare) + touching_.capacity() + partner_touching_.capacity() +
+         near_walls_.capacity() * sizeof(std::uint32_t) +
          (wall_slots_.capacity() + wall_scratch_.capacity()) * sizeof(WallSlot);
 }
 

@@ -110,6 +110,15 @@ class ForceField {
   // no writes. Both rebuilt from the histories when the list changes (generation).
   std::vector<std::uint8_t> touching_, partner_touching_;
   std::uint64_t list_generation_ = ~std::uint64_t{0};
+  // near_walls_[i] bit w: static wall w (w < kMaskedWalls) may touch sphere i before the next list
+  // build; found when the list is built (the profile had a box wall's distance test at 4 % of a
+  // settled clump bed, for spheres nowhere near it). Moving walls are always asked.
+  static constexpr std::size_t kMaskedWalls = 32;
+  std::vector<std::uint32_t> near_walls_;
+  std::vector<WallPose> mask_poses_;  // the walls' poses when the masks were made
+  std::uint32_t mask_moving_ = 0;     // and which of them were moving
+  void find_near_walls(const Particles& p, const std::vector<Wall>& walls, double skin);
+  bool walls_where_found(const std::vector<Wall>& walls) const;
   std::vector<WallSlot> wall_slots_, wall_scratch_;  // kWallSlots per particle; the first wall_count_[i] used
   std::vector<std::uint8_t> wall_count_, count_scratch_;
 };

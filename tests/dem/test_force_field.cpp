@@ -4,10 +4,12 @@
 // list rebuild carries a history over to a pair that is already apart.
 #include <catch2/catch.hpp>
 
+#include <memory>
 #include <vector>
 
 #include "dem/force_field.hpp"
 #include "dem/neighbor_list.hpp"
+#include "dem/walls/plane.hpp"
 
 using namespace grainscale::dem;
 
@@ -77,4 +79,33 @@ TEST_CASE("A pair that parts exerts no force and its tangential history starts a
   }
   s.ff.compute(s.p, s.nl, s.walls, s.dt);
   CHECK(norm(s.history().shear) == Approx(0.05 * s.dt).epsilon(1e-6));
+}
+
+TEST_CASE("A static wall is asked about the spheres within reach of it at the list build, and again after it is moved",
+          "[dem][walls]") {
+  // ForceField skips static walls that cannot reach a sphere before the next list build. Two ways
+  // that could miss a contact: a sphere far from the wall at the build, and a wall given a new pose
+  // between steps (no build in between).
+  TwoSpheres s;
+  s.walls.emplace_back("floor", std::make_shared<PlaneGeometry>(Vec3{0, 0, 0}, Vec3{0, 0, 1}), 0,
+                       WallPose{{0, 0, -0.02}, {}, {}, {}});  // 20 mm below the spheres: out of reach
+  s.ff.setup(s.materials, s.walls, RollingSettings{});
+  s.ff.compute(s.p, s.nl, s.walls, s.dt);
+  CHECK(s.ff.compute(s.p, s.nl, s.walls, s.dt).wall_contacts == 0);
+
+  // The floor is raised to 0.1 mm inside both spheres, with no list build: both must feel it.
+  WallPose raised{{0, 0, -s.r + 1e-4}, {}, {}, {}};
+  s.walls[0].set_pose(raised);
+  const ForceDiagnostics d = s.ff.compute(s.p, s.nl, s.walls, s.dt);
+  CHECK(d.wall_contacts == 2);
+  for (std::size_t i = 0; i < s.p.size(); ++i) CHECK(s.p.force[i].z > 0);
+
+  // A sphere that falls from out of reach onto a static floor is caught once the list is rebuilt
+  // (moved more than skin/2), with the same force as a wall asked at every step.
+  for (std::size_t i = 0; i < s.p.size(); ++i) s.p.x[i].z += 0.01;  // out of reach again
+  s.rebuild();
+  CHECK(s.ff.compute(s.p, s.nl, s.walls, s.dt).wall_contacts == 0);
+  for (std::size_t i = 0; i < s.p.size(); ++i) s.p.x[i].z -= 0.01;  // back, 0.1 mm deep
+  s.rebuild();
+  CHECK(s.ff.compute(s.p, s.nl, s.walls, s.dt).wall_contacts == 2);
 }
