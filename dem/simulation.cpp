@@ -312,7 +312,7 @@ void Simulation::restore(SimulationState&& s) {
   forces_.restore_wall_contacts(s.wall_count, s.wall_slots, walls_.size());
   neighbors_ = std::move(nl);
   particles_ = std::move(p);
-  sphere_velocities_lag_ = false;
+  sphere_state_lags_ = false;
   bodies_ = std::move(b);
   shape_names_ = std::move(s.shape_names);
   time_ = s.time;
@@ -500,18 +500,18 @@ void Simulation::drift(double dt) {
       const std::uint32_t k = p.body[s];
       const Vec3 r = rotate(b.q[k], p.offset[s]);
       p.x[s] = b.x[k] + r;
-      p.q[s] = b.q[k];
       moved2 = std::max(moved2, norm2(p.x[s] - p.x_at_build[s]));
       p.v[s] = b.v[k] + cross(b.omega[k], r);
       p.omega[s] = b.omega[k];
     }
   }
   moved2_ = moved2;
+  sphere_state_lags_ = true;  // orientations (output only) are not copied here
 }
 
 void Simulation::kick_after_forces(double half_dt) {
   // Per body: sum its spheres' contact forces (plus gravity), then the half kick, in one pass. The
-  // spheres' velocities now lag their bodies' until someone looks (update_sphere_velocities).
+  // spheres' velocities now lag their bodies' until someone looks (update_sphere_state).
   Bodies& b = bodies_;
   const Particles& p = particles_;
   const std::size_t nb = b.size();
@@ -530,23 +530,23 @@ void Simulation::kick_after_forces(double half_dt) {
     b.L[k] += half_dt * b.torque[k];
     b.omega[k] = body_angular_velocity(b.q[k], b.L[k], b.inertia[k]);
   }
-  sphere_velocities_lag_ = true;
 }
 
-void Simulation::update_sphere_velocities() const {
-  // The spheres' velocities at the full step are for output and diagnostics only (the next drift
-  // sets them afresh before any force uses them), so they are brought up to date on demand. They
-  // are a cache of the bodies' state, hence const.
+void Simulation::update_sphere_state() const {
+  // The spheres' orientations, and their velocities at the full step, are for output and
+  // diagnostics only (the force loop needs neither; the next drift sets the velocities afresh), so
+  // they are brought up to date on demand: a cache of the bodies' state, hence const.
   Particles& p = const_cast<Particles&>(particles_);
   const Bodies& b = bodies_;
   const std::size_t n = p.size();
 #pragma omp parallel for if(n >= parallel_min_items()) schedule(static)
   for (std::size_t s = 0; s < n; ++s) {
     const std::uint32_t k = p.body[s];
+    p.q[s] = b.q[k];
     p.v[s] = b.v[k] + cross(b.omega[k], rotate(b.q[k], p.offset[s]));
     p.omega[s] = b.omega[k];
   }
-  sphere_velocities_lag_ = false;
+  sphere_state_lags_ = false;
 }
 
 void Simulation::step() {

@@ -103,11 +103,11 @@ class Simulation {
 
   /// The component spheres (what contacts act on).
   Particles& particles() {
-    if (sphere_velocities_lag_) update_sphere_velocities();
+    if (sphere_state_lags_) update_sphere_state();
     return particles_;
   }
   const Particles& particles() const {
-    if (sphere_velocities_lag_) update_sphere_velocities();
+    if (sphere_state_lags_) update_sphere_state();
     return particles_;
   }
   /// The rigid bodies (what is integrated).
@@ -153,7 +153,7 @@ class Simulation {
   const MassProperties& mass_properties_of(const Shape& shape);
   void drift(double dt);                   // half kick, drift, spheres follow
   void kick_after_forces(double half_dt);  // sum forces per body, half kick
-  void update_sphere_velocities() const;
+  void update_sphere_state() const;
   void move_spheres_with_bodies(bool positions);
   void index_spheres_by_body();
   void sum_forces_on_bodies();
@@ -176,7 +176,7 @@ class Simulation {
   /// Mass properties of each distinct sphere set added so far (mass_properties_of).
   std::vector<std::pair<std::vector<SphereComponent>, MassProperties>> mass_cache_;
   bool ready_ = false;
-  mutable bool sphere_velocities_lag_ = false;  // the spheres' v, omega are behind their bodies'
+  mutable bool sphere_state_lags_ = false;  // the spheres' q, v, omega are behind their bodies'
 };
 
 }  // namespace grainscale::dem
