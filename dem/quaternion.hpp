@@ -30,8 +30,9 @@ inline Quat axis_angle(const Vec3& axis, double angle) {
 
 inline Quat conjugate(const Quat& q) { return {q.w, -q.x, -q.y, -q.z}; }
 
-/// v' = q v q*  (body -> world).
-inline Vec3 rotate(const Quat& q, const Vec3& v) {
+/// v' = q v q*  (body -> world). Always inlined: GCC kept it out of line in the per-sphere drift
+/// loop, where the call cost 5 % of a clump-bed step (perf; docs/performance.md).
+[[gnu::always_inline]] inline Vec3 rotate(const Quat& q, const Vec3& v) {
   const Vec3 u{q.x, q.y, q.z};
   const Vec3 t = 2.0 * cross(u, v);
   return v + q.w * t + cross(u, t);
