@@ -168,7 +168,7 @@ TEST_CASE("The calibration study file loads, and bad ones are rejected with file
   CHECK_THROWS_AS(load_text(replace(text, "tolerance_deg: 0.5", "tolerance_deg: -1")), InputError);
 }
 
-TEST_CASE("--case keeps the named cases of a calibration study; an unknown name names the study and its cases",
+TEST_CASE("Calibrate --case keeps the named cases of a calibration study; an unknown name names the study and its cases",
           "[studies][aor]") {
   const std::string file = (kSource / "studies/aor_calibration.yaml").string();
   const CalibrationStudy all = load_calibration_study(file);
