@@ -22,7 +22,7 @@ struct Axes {
   std::string title, x_label, y_label;
   /// Fixed axis limits; an absent one comes from the data (line and bar plots round it outwards to
   /// the next tick).
-  std::optional<double> x_min, x_max, y_min, y_max;
+  std::optional<double> x_min{}, x_max{}, y_min{}, y_max{};
   int width = 900, height = 600;  // pixels
 };
 

@@ -421,7 +421,7 @@ TEST_CASE("XDMF series references every snapshot at its time", "[dem][snapshot]"
   for (int s = 0; s < 3; ++s) {
     const std::string rel = "snapshots/snap_" + std::to_string(s) + ".h5";
     write_snapshot(sim, dir / rel, kInfo);
-    series.push_back({sim.time(), rel, sim.particles().size()});
+    series.push_back({sim.time(), rel, sim.particles().size(), {}});
     sim.run_steps(10);
   }
   const std::string xmf = dir / "series.xmf";
@@ -449,7 +449,7 @@ TEST_CASE("XDMF series references every snapshot at its time", "[dem][snapshot]"
   }
 
   // A bad entry throws and leaves the previous .xmf intact.
-  series.push_back({std::numeric_limits<double>::quiet_NaN(), "snapshots/x.h5", 7});
+  series.push_back({std::numeric_limits<double>::quiet_NaN(), "snapshots/x.h5", 7, {}});
   CHECK_THROWS_AS(write_xdmf_series(xmf, series), std::invalid_argument);
   CHECK(slurp(xmf) == text);
 }
