@@ -175,7 +175,7 @@ void Simulation::setup() {
   skin_ = settings_.skin > 0 ? settings_.skin : 0.2 * r_max;
   forces_.setup(materials_, walls_, settings_.rolling);
   for (Wall& w : walls_) w.move_to(time_);
-  move_spheres_with_bodies(true);
+  move_spheres_with_bodies();
   rebuild();
   compute_forces();
   ready_ = true;
@@ -348,13 +348,34 @@ void Simulation::rebuild() {
 
 void Simulation::index_spheres_by_body() { index_spheres(particles_, bodies_, body_fill_); }
 
+namespace {
+/// omega = R I^-1 R^T L; for an isotropic body simply L / I (no rotations needed).
+inline Vec3 body_angular_velocity(const Quat& q, const Vec3& L, const Vec3& inertia) {
+  if (inertia.x == inertia.y && inertia.y == inertia.z) return (1.0 / inertia.x) * L;
+  return angular_velocity(q, L, inertia);
+}
+
+/// Sphere s follows its body: x_s = x_b + R(q_b) offset_s, v_s = v_b + omega_b x (x_s - x_b),
+/// omega_s = omega_b. Returns the squared displacement since the last neighbour build.
+inline double follow_body(Particles& p, const Bodies& b, std::size_t s) {
+  const std::uint32_t k = p.body[s];
+  const Vec3 r = rotate(b.q[k], p.offset[s]);
+  p.x[s] = b.x[k] + r;
+  p.v[s] = b.v[k] + cross(b.omega[k], r);
+  p.omega[s] = b.omega[k];
+  return norm2(p.x[s] - p.x_at_build[s]);
+}
+}  // namespace
+
 void Simulation::compute_forces() {
   diag_ = forces_.compute(particles_, neighbors_, walls_, dt_);
   check_health();
   sum_forces_on_bodies();
 }
 
-void Simulation::sum_forces_on_bodies() {
+void Simulation::sum_forces_on_bodies(double half_kick) {
+  // Per body: its spheres' contact forces summed about its centre, plus gravity; with half_kick > 0
+  // also the half kick that follows them in a step (one pass over the bodies instead of two).
   Bodies& b = bodies_;
   const Particles& p = particles_;
   const std::size_t nb = b.size();
@@ -369,28 +390,24 @@ void Simulation::sum_forces_on_bodies() {
     }
     b.force[k] = f + b.mass[k] * g;
     b.torque[k] = t;
+    if (half_kick > 0) {
+      b.v[k] += (half_kick * b.inv_mass[k]) * b.force[k];
+      b.L[k] += half_kick * b.torque[k];
+      b.omega[k] = body_angular_velocity(b.q[k], b.L[k], b.inertia[k]);
+    }
   }
 }
 
-void Simulation::move_spheres_with_bodies(bool positions) {
-  // x_s = x_b + R(q_b) offset_s,  v_s = v_b + omega_b x (x_s - x_b),  omega_s = omega_b.
+void Simulation::move_spheres_with_bodies() {
   Particles& p = particles_;
-  const Bodies& b = bodies_;
   const std::size_t n = p.size();
   double moved2 = 0;
 #pragma omp parallel for if(n >= parallel_min_items()) schedule(static) reduction(max : moved2)
   for (std::size_t s = 0; s < n; ++s) {
-    const std::uint32_t k = p.body[s];
-    const Vec3 r = rotate(b.q[k], p.offset[s]);
-    if (positions) {
-      p.x[s] = b.x[k] + r;
-      p.q[s] = b.q[k];
-      moved2 = std::max(moved2, norm2(p.x[s] - p.x_at_build[s]));
-    }
-    p.v[s] = b.v[k] + cross(b.omega[k], r);
-    p.omega[s] = b.omega[k];
+    moved2 = std::max(moved2, follow_body(p, bodies_, s));
+    p.q[s] = bodies_.q[p.body[s]];
   }
-  if (positions) moved2_ = moved2;
+  moved2_ = moved2;
 }
 
 void Simulation::check_health() {
@@ -468,13 +485,6 @@ void Simulation::check_health() {
   }
 }
 
-namespace {
-/// omega = R I^-1 R^T L; for an isotropic body simply L / I (no rotations needed).
-inline Vec3 body_angular_velocity(const Quat& q, const Vec3& L, const Vec3& inertia) {
-  if (inertia.x == inertia.y && inertia.y == inertia.z) return (1.0 / inertia.x) * L;
-  return angular_velocity(q, L, inertia);
-}
-}  // namespace
 
 void Simulation::drift(double dt) {
   // Half kick, drift and free rotation of the bodies, then the spheres follow: one parallel region
@@ -496,40 +506,10 @@ void Simulation::drift(double dt) {
       b.omega[k] = body_angular_velocity(b.q[k], b.L[k], b.inertia[k]);
     }
 #pragma omp for schedule(static) reduction(max : moved2)
-    for (std::size_t s = 0; s < n; ++s) {
-      const std::uint32_t k = p.body[s];
-      const Vec3 r = rotate(b.q[k], p.offset[s]);
-      p.x[s] = b.x[k] + r;
-      moved2 = std::max(moved2, norm2(p.x[s] - p.x_at_build[s]));
-      p.v[s] = b.v[k] + cross(b.omega[k], r);
-      p.omega[s] = b.omega[k];
-    }
+    for (std::size_t s = 0; s < n; ++s) moved2 = std::max(moved2, follow_body(p, b, s));
   }
   moved2_ = moved2;
-  sphere_state_lags_ = true;  // orientations (output only) are not copied here
-}
-
-void Simulation::kick_after_forces(double half_dt) {
-  // Per body: sum its spheres' contact forces (plus gravity), then the half kick, in one pass. The
-  // spheres' velocities now lag their bodies' until someone looks (update_sphere_state).
-  Bodies& b = bodies_;
-  const Particles& p = particles_;
-  const std::size_t nb = b.size();
-  const Vec3 g = settings_.gravity;
-#pragma omp parallel for if(nb >= parallel_min_items()) schedule(static)
-  for (std::size_t k = 0; k < nb; ++k) {
-    Vec3 f{}, t{};
-    for (std::uint32_t m = b.sphere_start[k]; m < b.sphere_start[k + 1]; ++m) {
-      const std::uint32_t s = b.sphere_slot[m];
-      f += p.force[s];
-      t += cross(p.x[s] - b.x[k], p.force[s]) + p.torque[s];
-    }
-    b.force[k] = f + b.mass[k] * g;
-    b.torque[k] = t;
-    b.v[k] += (half_dt * b.inv_mass[k]) * b.force[k];
-    b.L[k] += half_dt * b.torque[k];
-    b.omega[k] = body_angular_velocity(b.q[k], b.L[k], b.inertia[k]);
-  }
+  sphere_state_lags_ = true;  // orientations (output only) are not copied here; velocities go stale at the kick
 }
 
 void Simulation::update_sphere_state() const {
@@ -559,7 +539,7 @@ void Simulation::step() {
   diag_ = forces_.compute(particles_, neighbors_, walls_, dt_);
   check_health();
   if (settings_.stability_interval > 0 && steps_ % settings_.stability_interval == 0) check_stability();
-  kick_after_forces(0.5 * dt_);
+  sum_forces_on_bodies(0.5 * dt_);  // and the second half kick
 }
 
 const StepStability& Simulation::check_stability() {

@@ -152,11 +152,10 @@ class Simulation {
   void check_step_for(int material, double radius) const;
   const MassProperties& mass_properties_of(const Shape& shape);
   void drift(double dt);                   // half kick, drift, spheres follow
-  void kick_after_forces(double half_dt);  // sum forces per body, half kick
   void update_sphere_state() const;
-  void move_spheres_with_bodies(bool positions);
+  void move_spheres_with_bodies();
   void index_spheres_by_body();
-  void sum_forces_on_bodies();
+  void sum_forces_on_bodies(double half_kick = 0);
 
   MaterialTable materials_;
   SimulationSettings settings_;
