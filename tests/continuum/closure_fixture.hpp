@@ -36,4 +36,17 @@ inline continuum::closure::ContainerGravity tilted(double theta_rad, double g = 
 
 inline constexpr double kDeg = M_PI / 180;
 
+/// A section of `length` m in `nx` cells with internal friction φ, basal friction δ (degrees) and
+/// flowing-layer depth ℓ (m).
+inline continuum::closure::SectionSettings section(double length, int nx, double phi_deg, double delta_deg,
+                                                    double ell) {
+  continuum::closure::SectionSettings s;
+  s.length = length;
+  s.nx = nx;
+  s.friction.internal_deg = phi_deg;
+  s.friction.basal_deg = delta_deg;
+  s.friction.layer_depth = ell;
+  return s;
+}
+
 }  // namespace closure_test

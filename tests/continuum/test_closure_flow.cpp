@@ -14,20 +14,6 @@
 using namespace grainscale::continuum::closure;
 using namespace closure_test;
 
-namespace {
-
-SectionSettings section(double length, int nx, double phi_deg, double delta_deg, double ell) {
-  SectionSettings s;
-  s.length = length;
-  s.nx = nx;
-  s.friction.internal_deg = phi_deg;
-  s.friction.basal_deg = delta_deg;
-  s.friction.layer_depth = ell;
-  return s;
-}
-
-}  // namespace
-
 TEST_CASE("closure: a bed below the Coulomb threshold stays exactly at rest", "[closure][coulomb]") {
   // Deep bed (h ≫ ℓ), floor tilted 20°, surface sloping so that the surface is at 25° to the
   // horizontal (below φ = 26.7°), and a plug bed (ℓ = ∞) at 13° on a floor with δ = 14°.

@@ -17,12 +17,7 @@ using namespace closure_test;
 namespace {
 
 SectionSettings channel(double length, int nx, double phi_deg, double delta_deg, double ell, double width, double mu_w) {
-  SectionSettings s;
-  s.length = length;
-  s.nx = nx;
-  s.friction.internal_deg = phi_deg;
-  s.friction.basal_deg = delta_deg;
-  s.friction.layer_depth = ell;
+  SectionSettings s = section(length, nx, phi_deg, delta_deg, ell);
   s.friction.side_walls.width = width;
   s.friction.side_walls.friction = mu_w;
   return s;
