@@ -210,6 +210,10 @@ for log in sorted(glob.glob(f"{out}/grainscale_t*_r*.log")) + sorted(glob.glob(f
     if x:
         print(f"  {os.path.basename(log):24} {x['rate'] / 1e6:8.3f} M sphere-steps/s in {x['s']:.2f} s   other load {load(log).get('other_cores', '?')} cores")
 print("end of the timed steps (the same state for every count of a code: a run that disagrees misbehaved):")
+for log in sorted(glob.glob(f"{out}/grainscale_t*_r*.log")):
+    m = re.search(r"end state: kinetic energy (\S+) J, (\d+) contacts, fingerprint (\w+)", open(log).read())
+    if m:
+        print(f"  {os.path.basename(log):24} KE {float(m.group(1)):.4g} J, {m.group(2)} contacts, fingerprint {m.group(3)} (bit for bit)")
 for log in sorted(glob.glob(f"{out}/liggghts_np*_r*.log")):
     m = re.search(r"^TIMED atoms (\d+) bodies (\S+) ekin_J (\S+) zmean_m (\S+) contacts (\S+)", open(log).read(), re.M)
     if m:
