@@ -171,57 +171,60 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
     }
 
     // Wall contacts; histories found by (wall, feature) among last step's contacts of this particle.
-    WallSlot* slots = &wall_slots_[i * kWallSlots];
     const int previous = wall_count_[i];
-    UninitializedArray<WallSlot, kWallSlots> old;
-    for (int o = 0; o < previous; ++o) old[o] = slots[o];
-    int used = 0;
-    const Vec3 xi = p.x[i], vi = p.v[i], wi = p.omega[i];
-    const double ri = p.radius[i];
     const std::uint32_t near = near_walls_[i];
-    for (std::size_t w = 0; w < walls.size(); ++w) {
-      if (w < kMaskedWalls && !(near >> w & 1u)) continue;  // out of reach until the next list build
-      UninitializedArray<WallContact, kWallSlots + 1> wc;
-      const int found = walls[w].contacts(xi, ri, wc.data(), kWallSlots + 1);
-      for (int q = 0; q < found; ++q) {
-        if (used == kWallSlots) {
-          overflow = std::min<std::int64_t>(overflow, static_cast<std::int64_t>(i));
-          break;
+    // Most of a bed has no wall within reach and had no wall contact: skip the lot (and the copy).
+    if (previous > 0 || near != 0 || walls.size() > kMaskedWalls) {
+      WallSlot* slots = &wall_slots_[i * kWallSlots];
+      UninitializedArray<WallSlot, kWallSlots> old;
+      for (int o = 0; o < previous; ++o) old[o] = slots[o];
+      int used = 0;
+      const Vec3 xi = p.x[i], vi = p.v[i], wi = p.omega[i];
+      const double ri = p.radius[i];
+      for (std::size_t w = 0; w < walls.size(); ++w) {
+        if (w < kMaskedWalls && !(near >> w & 1u)) continue;  // out of reach until the next list build
+        UninitializedArray<WallContact, kWallSlots + 1> wc;
+        const int found = walls[w].contacts(xi, ri, wc.data(), kWallSlots + 1);
+        for (int q = 0; q < found; ++q) {
+          if (used == kWallSlots) {
+            overflow = std::min<std::int64_t>(overflow, static_cast<std::int64_t>(i));
+            break;
+          }
+          WallSlot s{static_cast<std::int32_t>(w), wc[q].feature, {}};
+          bool matched = false;
+          for (int o = 0; o < previous; ++o) {
+            if (old[o].wall == s.wall && old[o].feature == s.feature) s.history = old[o].history, matched = true;
+          }
+          if (!matched && previous > 0) inherit_history(walls[w].geometry(), old.data(), previous, wc.data(), found, s);
+          const WallPose& pose = walls[w].pose();
+          ContactKinematics c;
+          c.n = wc[q].normal;
+          c.overlap = wc[q].overlap;
+          c.lever_i = ri - c.overlap;
+          c.lever_j = 0;
+          c.omega_i = wi;
+          c.omega_j = pose.angular_velocity;
+          c.v_rel = vi - c.lever_i * cross(wi, c.n) - pose.surface_velocity(wc[q].point);
+          c.r_eff = ri;
+          c.mass_i = c.m_eff = p.mass[i];
+          c.mass_j = kInf;
+          c.inertia_i = p.inertia[i];
+          c.inertia_j = kInf;
+          c.dt = dt;
+          const int pair = p.material[i] * m.materials + wall_material_[w];
+          const ContactForce cf = HertzMindlin::evaluate(m.contact[pair], c, s.history);
+          Vec3 ti, tj;
+          Rolling::evaluate(m.rolling[pair], c, cf, s.history, ti, tj);
+          f += cf.force;
+          t += ti - c.lever_i * cross(c.n, cf.tangential);
+          slots[used++] = s;
+          worst_wall = std::max(worst_wall, c.overlap / ri);
+          stiff_wall = std::max(stiff_wall, cf.stiffness / c.m_eff);
         }
-        WallSlot s{static_cast<std::int32_t>(w), wc[q].feature, {}};
-        bool matched = false;
-        for (int o = 0; o < previous; ++o) {
-          if (old[o].wall == s.wall && old[o].feature == s.feature) s.history = old[o].history, matched = true;
-        }
-        if (!matched && previous > 0) inherit_history(walls[w].geometry(), old.data(), previous, wc.data(), found, s);
-        const WallPose& pose = walls[w].pose();
-        ContactKinematics c;
-        c.n = wc[q].normal;
-        c.overlap = wc[q].overlap;
-        c.lever_i = ri - c.overlap;
-        c.lever_j = 0;
-        c.omega_i = wi;
-        c.omega_j = pose.angular_velocity;
-        c.v_rel = vi - c.lever_i * cross(wi, c.n) - pose.surface_velocity(wc[q].point);
-        c.r_eff = ri;
-        c.mass_i = c.m_eff = p.mass[i];
-        c.mass_j = kInf;
-        c.inertia_i = p.inertia[i];
-        c.inertia_j = kInf;
-        c.dt = dt;
-        const int pair = p.material[i] * m.materials + wall_material_[w];
-        const ContactForce cf = HertzMindlin::evaluate(m.contact[pair], c, s.history);
-        Vec3 ti, tj;
-        Rolling::evaluate(m.rolling[pair], c, cf, s.history, ti, tj);
-        f += cf.force;
-        t += ti - c.lever_i * cross(c.n, cf.tangential);
-        slots[used++] = s;
-        worst_wall = std::max(worst_wall, c.overlap / ri);
-        stiff_wall = std::max(stiff_wall, cf.stiffness / c.m_eff);
       }
+      wall_contacts += static_cast<std::size_t>(used);
+      wall_count_[i] = static_cast<std::uint8_t>(used);
     }
-    wall_contacts += static_cast<std::size_t>(used);
-    wall_count_[i] = static_cast<std::uint8_t>(used);
 
     p.force[i] = f;
     p.torque[i] = t;
