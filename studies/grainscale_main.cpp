@@ -330,7 +330,7 @@ int run_shape(const Args& a) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  studies::prefer_passive_openmp_wait(argv);  // before any OpenMP: see openmp_wait_policy.hpp
+  studies::prefer_short_openmp_spin(argv);  // before any OpenMP: see openmp_wait_policy.hpp
   if (argc < 2 || !std::strcmp(argv[1], "--help") || !std::strcmp(argv[1], "-h") || !std::strcmp(argv[1], "help")) {
     std::cout << kUsage;
     return argc < 2 ? 1 : 0;

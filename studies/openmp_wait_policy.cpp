@@ -6,9 +6,9 @@
 
 namespace grainscale::studies {
 
-void prefer_passive_openmp_wait(char** argv) {
+void prefer_short_openmp_spin(char** argv) {
   if (std::getenv("OMP_WAIT_POLICY") != nullptr || std::getenv("GOMP_SPINCOUNT") != nullptr) return;
-  if (setenv("OMP_WAIT_POLICY", "PASSIVE", 1) != 0) return;
+  if (setenv("GOMP_SPINCOUNT", kDefaultSpinCount, 1) != 0) return;
   execv("/proc/self/exe", argv);  // returns only on failure: go on as we are
 }
 
