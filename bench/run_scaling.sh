@@ -100,17 +100,17 @@ for n in sizes:
         ld = dict(zip(*[iter(open(f"{out}/timed_{n}.log.load").read().split())] * 2))
     except OSError:
         ld = {}
-    for m in re.finditer(r"^threads (\d+): (\d+) steps in ([0-9.]+) s = ([0-9.]+) M sphere-steps/s", t, re.M):
+    for m in re.finditer(r"^threads (\d+): (\d+) steps in ([0-9.]+) s = ([0-9.]+) M sphere-steps/s.*?(\d+) neighbour-list builds", t, re.M):
         rows.setdefault(int(m.group(1)), []).append(
             (n, int(p.group(1)) if p else n, int(m.group(2)), float(m.group(3)), float(m.group(4)) * 1e6,
              int(p.group(4)) / int(p.group(1)) if p else float("nan"), float(mem.group(1)) if mem else float("nan"),
-             int(ld.get("maxrss_kb", 0)) * 1024, ld.get("other_cores", "?")))
+             int(ld.get("maxrss_kb", 0)) * 1024, ld.get("other_cores", "?"), int(m.group(2)) / max(1, int(m.group(5)))))
 print("cost against particle count (grainscale; box_settle bed, box scaled in x and y at constant depth)")
 for th in sorted(rows):
     print(f"\n{th} thread(s):")
-    print(f"{'N':>9} {'steps':>6} {'s':>8} {'M sph-st/s':>10} {'ns/sph-st':>9} {'contacts/sph':>12} {'B/sphere':>8} {'peak RSS MiB':>12} {'other load':>10}")
-    for n, ns, steps, s, rate, cps, b, rss, other in rows[th]:
-        print(f"{ns:>9} {steps:>6} {s:8.2f} {rate / 1e6:10.3f} {1e9 / rate:9.1f} {cps:12.2f} {b:8.0f} {rss / 2**20:12.0f} {other:>10}")
+    print(f"{'N':>9} {'steps':>6} {'s':>8} {'M sph-st/s':>10} {'ns/sph-st':>9} {'contacts/sph':>12} {'steps/build':>11} {'B/sphere':>8} {'peak RSS MiB':>12} {'other load':>10}")
+    for n, ns, steps, s, rate, cps, b, rss, other, per_build in rows[th]:
+        print(f"{ns:>9} {steps:>6} {s:8.2f} {rate / 1e6:10.3f} {1e9 / rate:9.1f} {cps:12.2f} {per_build:11.0f} {b:8.0f} {rss / 2**20:12.0f} {other:>10}")
     r = rows[th]
     if len(r) > 1:
         small, large = r[0], r[-1]
@@ -119,6 +119,9 @@ for th in sorted(rows):
               f"-> {'linear (cost per sphere-step does not grow)' if ratio <= 1.25 else 'NOT linear: cost per sphere-step grows with N'}"
               " (threshold 1.25; a ratio below 1 means the small problems carry per-step overhead)")
 print("\n(contacts/sph: sphere-sphere contacts per sphere in the settled bed; the beds are comparable when it is")
-print(" about the same for every N. other load: cores used by other processes meanwhile, > 0.2 disturbs the figure)")
+print(" about the same for every N. steps/build: timed steps per neighbour-list build; the list is rebuilt for all")
+print(" when any sphere has moved half the skin, so a bed with rattlers or a settling surface rebuilds more often the")
+print(" larger it is: compare sizes at similar steps/build, or settle longer (SETTLE). other load: cores used by other")
+print(" processes meanwhile, > 0.2 disturbs the figure)")
 PY
 say "logs and results.txt in $OUT"
