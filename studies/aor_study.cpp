@@ -36,6 +36,7 @@ CalibrationCase parse_case(YamlMap m, const dem::MaterialTable& materials, const
   if (m.has("count")) c.count = static_cast<std::uint64_t>(m.integer("count", 10, 10'000'000));
   else c.grain.mass = m.number("mass", Range::positive());
   c.target_deg = m.number("target_deg", {0, 90, true, true});
+  c.target_source = m.string_or("target_source", "measured");
   if (auto refs = m.optional_map("references")) {
     for (const std::string& k : refs->keys()) c.references.push_back({k, refs->number(k, {0, 90, true, true})});
     refs->finish();

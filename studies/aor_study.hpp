@@ -28,7 +28,8 @@ struct CalibrationCase {
   std::string name;
   AorGrain grain;                 // grain.mass is filled from `count` when that is given
   std::uint64_t count = 0;        // particles to pour (or 0: grain.mass given)
-  double target_deg = 0;          // the measured angle to match
+  double target_deg = 0;          // the angle to match
+  std::string target_source = "measured";  // what that angle is (e.g. "report_dem"), for the report
   std::vector<ReferenceAngle> references;  // other angles to compare with (reported, not matched)
   std::vector<CalibrationParameter> parameters;  // searched together along one line (docs)
   std::vector<double> calibrated;  // values a calibration found (one per parameter), or empty: the search

@@ -120,7 +120,7 @@ std::string report_md(const CalibrationStudy& s, const std::vector<CaseOutcome>&
   for (const CaseOutcome& o : outcomes) {
     const CalibrationCase& c = *o.c;
     m << "## " << c.name << "\n\n"
-      << "Target " << fixed(c.target_deg, 2) << " deg (measured)";
+      << "Target " << fixed(c.target_deg, 2) << " deg (" << c.target_source << ")";
     for (const auto& r : c.references) m << "; " << r.label << " " << fixed(r.deg, 2) << " deg";
     m << ". Searched: ";
     for (std::size_t k = 0; k < c.parameters.size(); ++k) {
