@@ -9,11 +9,16 @@
 
 namespace grainscale::dem {
 
+namespace {
+double component(const Vec3& v, int axis) { return axis == 0 ? v.x : axis == 1 ? v.y : v.z; }
+}  // namespace
+
 int NeighborList::cell_of(const Vec3& x) const {
-  const int ix = std::clamp(static_cast<int>((x.x - origin_.x) / cell_), 0, nx_ - 1);
-  const int iy = std::clamp(static_cast<int>((x.y - origin_.y) / cell_), 0, ny_ - 1);
-  const int iz = std::clamp(static_cast<int>((x.z - origin_.z) / cell_), 0, nz_ - 1);
-  return (iz * ny_ + iy) * nx_ + ix;
+  int i[3];
+  for (int k = 0; k < 3; ++k) {
+    i[k] = std::clamp(static_cast<int>((component(x, axis_[k]) - component(origin_, axis_[k])) / cell_), 0, n_[k] - 1);
+  }
+  return (i[2] * n_[1] + i[1]) * n_[0] + i[0];
 }
 
 const std::vector<std::uint32_t>& NeighborList::sort_by_cell(const Particles& p, double skin) {
@@ -44,13 +49,17 @@ const std::vector<std::uint32_t>& NeighborList::sort_by_cell(const Particles& p,
     const double fx = std::floor((hi_x - lo_x) / cell_) + 1, fy = std::floor((hi_y - lo_y) / cell_) + 1,
                  fz = std::floor((hi_z - lo_z) / cell_) + 1;
     if (fx * fy * fz <= max_cells) {
-      nx_ = static_cast<int>(fx), ny_ = static_cast<int>(fy), nz_ = static_cast<int>(fz);
+      const int counts[3] = {static_cast<int>(fx), static_cast<int>(fy), static_cast<int>(fz)};
+      // Fewest cells fastest, most cells slowest (ties keep x, y, z order: a stable sort).
+      axis_[0] = 0, axis_[1] = 1, axis_[2] = 2;
+      std::stable_sort(axis_, axis_ + 3, [&](int a, int b) { return counts[a] < counts[b]; });
+      for (int k = 0; k < 3; ++k) n_[k] = counts[axis_[k]];
       break;
     }
     cell_ *= 1.5;
   }
   origin_ = {lo_x, lo_y, lo_z};
-  const std::size_t cells = static_cast<std::size_t>(nx_) * ny_ * nz_;
+  const std::size_t cells = static_cast<std::size_t>(n_[0]) * n_[1] * n_[2];
 
   cell_index_.resize(n);
 #pragma omp parallel for if(n >= parallel_min_items()) schedule(static)
@@ -80,13 +89,13 @@ void NeighborList::build(Particles& p, double skin, const std::vector<std::uint3
   auto for_each_candidate = [&](std::size_t i, auto&& visit) {
     const Vec3 xi = p.x[i];
     const int c = cell_of(xi);
-    const int ix = c % nx_, iy = (c / nx_) % ny_, iz = c / (nx_ * ny_);
-    for (int z = std::max(iz - 1, 0); z <= std::min(iz + 1, nz_ - 1); ++z)
-      for (int y = std::max(iy - 1, 0); y <= std::min(iy + 1, ny_ - 1); ++y) {
-        // The cells of one row x-1..x+1 are contiguous in slot order: one loop covers them.
-        const int row = (z * ny_ + y) * nx_;
-        const std::uint32_t j0 = cell_start_[row + std::max(ix - 1, 0)];
-        const std::uint32_t j1 = cell_start_[row + std::min(ix + 1, nx_ - 1) + 1];
+    const int i0 = c % n_[0], i1 = (c / n_[0]) % n_[1], i2 = c / (n_[0] * n_[1]);
+    for (int s = std::max(i2 - 1, 0); s <= std::min(i2 + 1, n_[2] - 1); ++s)
+      for (int m = std::max(i1 - 1, 0); m <= std::min(i1 + 1, n_[1] - 1); ++m) {
+        // The cells of one row (fast axis i0-1..i0+1) are contiguous in slot order: one loop covers them.
+        const int row = (s * n_[1] + m) * n_[0];
+        const std::uint32_t j0 = cell_start_[row + std::max(i0 - 1, 0)];
+        const std::uint32_t j1 = cell_start_[row + std::min(i0 + 1, n_[0] - 1) + 1];
         for (std::uint32_t j = j0; j < j1; ++j) {
           if (p.id[j] <= p.id[i] || p.body[j] == p.body[i]) continue;  // no contacts inside a body
           const double cut = p.radius[i] + p.radius[j] + skin;

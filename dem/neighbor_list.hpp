@@ -2,7 +2,11 @@
 // Cell list with a Verlet skin (Allen & Tildesley 2017, Sec. 5.3-5.4).
 //
 // * Particles are binned in cubic cells of edge >= 2 r_max + skin and renumbered in cell order,
-//   so that particles close in space are close in memory (Morton-like locality per cell row).
+//   so that particles close in space are close in memory. Cells are numbered with the axis of fewest
+//   cells fastest and the axis of most cells slowest: a particle's neighbours then lie within
+//   2 n_fast n_mid cells of it in slot order (the window the force loop streams through). For a flat
+//   bed 3 cells deep and 430 x 430 cells wide that is 2,600 cells, where z-slowest order would make it
+//   370,000 - a third of the bed, far beyond the caches (bench/run_scaling.sh, docs/performance.md).
 // * The list is a half list stored as CSR: pair {a, b} is stored once, under the particle with the
 //   smaller id, if |x_a - x_b| < r_a + r_b + skin and a, b belong to different bodies. Keying ownership on id (not slot) means a pair
 //   keeps its owner and the sign of its history across renumbering.
@@ -74,7 +78,8 @@ class NeighborList {
   // Cell grid of the current build.
   Vec3 origin_;
   double cell_ = 0;
-  int nx_ = 0, ny_ = 0, nz_ = 0;
+  int n_[3] = {0, 0, 0};     // cells along the fast, middle and slow axis of the numbering
+  int axis_[3] = {0, 1, 2};  // world axis (0 x, 1 y, 2 z) of the fast, middle and slow axis
   std::vector<std::uint32_t> cell_start_;  // particles of cell c are slots [cell_start_[c], cell_start_[c+1])
   std::vector<int> cell_index_;            // per old slot, during sort
   std::vector<std::uint32_t> order_;       // new_to_old

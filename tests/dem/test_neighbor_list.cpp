@@ -86,6 +86,28 @@ TEST_CASE("Neighbour list equals the brute-force pair list", "[dem][neighbor]") 
   omp_set_num_threads(2);
 }
 
+TEST_CASE("Neighbour list equals brute force whichever axis is thin or long", "[dem][neighbor]") {
+  // Cells are numbered with the axis of fewest cells fastest (neighbor_list.hpp): slabs thin along x,
+  // y or z and a rod long along each axis put every permutation of the axes through the build.
+  const int threads = GENERATE(1, 2);
+  omp_set_num_threads(threads);
+  const Vec3 extent = GENERATE(Vec3{0.03, 0.15, 0.15}, Vec3{0.15, 0.03, 0.15}, Vec3{0.15, 0.15, 0.03},
+                               Vec3{0.4, 0.05, 0.03}, Vec3{0.05, 0.4, 0.03}, Vec3{0.03, 0.05, 0.4});
+  std::mt19937_64 rng(17);
+  std::uniform_real_distribution<double> u(0, 1);
+  Particles p;
+  for (std::size_t i = 0; i < 1500; ++i) {
+    p.add_sphere(i, 0, 0.002 + 0.004 * u(rng), 1000, {extent.x * u(rng), extent.y * u(rng), extent.z * u(rng)});
+  }
+  const double skin = 0.001;
+  NeighborList nl;
+  rebuild(p, nl, skin);
+  INFO("extent " << extent.x << " x " << extent.y << " x " << extent.z << ", " << threads << " thread(s)");
+  CHECK(nl.entries() > 1000);
+  CHECK(listed(p, nl) == brute_force(p, skin));
+  omp_set_num_threads(2);
+}
+
 TEST_CASE("Contact histories follow their pair through reordering rebuilds", "[dem][neighbor]") {
   const double skin = 0.001;
   Particles p = random_particles(1500, 0.12, 9);
