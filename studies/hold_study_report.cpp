@@ -242,9 +242,9 @@ std::string write_hold_study_report(const HoldStudySettings& s, const HoldStudyR
        "(docs/hold_prediction.md, \"Side walls\"; about 1e-3 of the friction in a ship's hold).\n"
     << "- **The flow closure is not validated at scale.** It is a depth-averaged Savage-Hutter bed with an assumed "
        "exponential velocity profile through depth and friction from the calibrated material; "
-    << (r.validation ? "this study compares it with coarse-grained DEM of a small platform box (section above), "
-                       "not with the report's 800 mm box or anything the size of a hold.\n"
-                     : "it has not been compared with DEM of the report's 800 mm box (issue 8).\n")
+    << (r.validation ? "this study compares it with the coarse-grained DEM of one platform box (section above), "
+                       "not with anything the size of a hold.\n"
+                     : "this study does not compare it with DEM (a `validate:` block does; docs/hold_prediction.md).\n")
     << "- **Chaff coefficients are assumed**, not fitted at these scales: segregation S and shear diffusion C come "
        "from each settings file. The ranking depends on them (segregation against diffusion).\n"
     << "- **The chaff grid keeps its initial surface** (docs/hold_prediction.md): the surface layer is carried at "
