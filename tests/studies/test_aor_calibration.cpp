@@ -233,19 +233,29 @@ TEST_CASE("The sensitivity figure draws one panel per parameter", "[studies][aor
   CHECK(draw_pile_profile(m, "test").width() == 900);
 }
 
+namespace {
+// One AOR run of a study's case at its `calibrated:` values, with one seed.
+AorRunResult run_at_calibrated(const CalibrationStudy& s, const CalibrationCase& k, std::uint64_t seed) {
+  REQUIRE(k.calibrated.size() == k.parameters.size());
+  dem::MaterialTable t = dem::MaterialTable::load(s.materials_file);
+  for (std::size_t i = 0; i < k.parameters.size(); ++i) {
+    set_pair_property(t, k.parameters[i].pair, k.parameters[i].property, k.calibrated[i], "test");
+  }
+  TempFile m("materials.yaml", materials_yaml(t, "AOR test run"));
+  const AorCase c = aor_case(s, k, seed, m.path.string());
+  const std::filesystem::path scenario = m.dir / "scenario.yaml";
+  std::ofstream(scenario) << aor_scenario_yaml(c, m.dir.string());
+  return run_aor(scenario.string(), c, "", [](const std::string&) {});
+}
+}  // namespace
+
 TEST_CASE("A quick 2x AOR run of barley gives an angle near its calibrated value", "[studies][aor][.validate]") {
   // The study's barley case at its calibrated sliding friction (studies/aor_calibration.yaml,
   // docs/aor_calibration.md): one seed, the band allowing for the seed-to-seed scatter.
   const CalibrationStudy s = load_calibration_study((kSource / "studies/aor_calibration.yaml").string());
   const CalibrationCase& barley = s.cases[0];
   REQUIRE(barley.calibrated.size() == 1);
-  dem::MaterialTable t = dem::MaterialTable::load(s.materials_file);
-  set_pair_property(t, barley.parameters[0].pair, barley.parameters[0].property, barley.calibrated[0], "test");
-  TempFile m("materials.yaml", materials_yaml(t, "validation"));
-  const AorCase c = aor_case(s, barley, 3, m.path.string());
-  const std::filesystem::path scenario = m.dir / "scenario.yaml";
-  std::ofstream(scenario) << aor_scenario_yaml(c, m.dir.string());
-  const AorRunResult r = run_aor(scenario.string(), c, "", [](const std::string&) {});
+  const AorRunResult r = run_at_calibrated(s, barley, 3);
   INFO("angle " << r.angle.mean_deg << " +- " << r.angle.spread_deg << " (side " << r.angle.side_mean_deg << ")");
   CHECK(r.at_rest);
   CHECK_THAT(r.angle.mean_deg, WithinAbs(barley.target_deg, 2.0));
@@ -262,13 +272,7 @@ TEST_CASE("A small 2x AOR run of barley stays in the band its three-seed calibra
   REQUIRE(s.scale_factor == 2);
   const CalibrationCase& barley = s.cases.at(0);
   REQUIRE(barley.calibrated.size() == 1);
-  dem::MaterialTable t = dem::MaterialTable::load(s.materials_file);
-  set_pair_property(t, barley.parameters[0].pair, barley.parameters[0].property, barley.calibrated[0], "test");
-  TempFile m("materials.yaml", materials_yaml(t, "quick AOR test"));
-  const AorCase c = aor_case(s, barley, 1, m.path.string());
-  const std::filesystem::path scenario = m.dir / "scenario.yaml";
-  std::ofstream(scenario) << aor_scenario_yaml(c, m.dir.string());
-  const AorRunResult r = run_aor(scenario.string(), c, "", [](const std::string&) {});
+  const AorRunResult r = run_at_calibrated(s, barley, 1);
   INFO("angle " << r.angle.mean_deg << " +- " << r.angle.spread_deg << " (side " << r.angle.side_mean_deg << "), "
                 << r.bodies_on_tray << " of " << r.bodies << " on the tray");
   CHECK(r.at_rest);
