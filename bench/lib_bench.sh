@@ -35,6 +35,17 @@ need_grainscale() {
 }
 
 # LIGGGHTS from Debian, installed if missing; MPIRUN=(mpirun [--allow-run-as-root]) when it is MPI-built
+# Installs a Debian package (as root, or with sudo), or dies naming the command to run by hand.
+apt_install() {
+  local pkg="$1" sudo=""
+  if [[ "$(id -u)" -ne 0 ]]; then
+    command -v sudo >/dev/null || die "not root and no sudo: install it with 'apt-get install -y $pkg'"
+    sudo="sudo"
+  fi
+  $sudo apt-get update -q || die "apt-get update failed"
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -q "$pkg" || die "apt-get install $pkg failed"
+}
+
 need_liggghts() {
   find_liggghts() {
     local c
@@ -45,13 +56,7 @@ need_liggghts() {
   }
   if ! LIGGGHTS="$(find_liggghts)"; then
     say "LIGGGHTS not found; installing the Debian package 'liggghts'"
-    local sudo=""
-    if [[ "$(id -u)" -ne 0 ]]; then
-      command -v sudo >/dev/null || die "not root and no sudo: install LIGGGHTS with 'apt-get install -y liggghts'"
-      sudo="sudo"
-    fi
-    $sudo apt-get update -q || die "apt-get update failed"
-    DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -q liggghts || die "apt-get install liggghts failed"
+    apt_install liggghts
     LIGGGHTS="$(find_liggghts)" || die "liggghts installed but no liggghts executable on PATH"
   fi
   say "LIGGGHTS: $LIGGGHTS ($(dpkg-query -W -f='${Version}' liggghts 2>/dev/null || echo 'version unknown'))"

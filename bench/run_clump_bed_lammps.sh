@@ -48,13 +48,7 @@ need_lammps() {
   }
   if ! LMP="$(find_lammps)"; then
     say "LAMMPS not found; installing the Debian package 'lammps'"
-    local sudo=""
-    if [[ "$(id -u)" -ne 0 ]]; then
-      command -v sudo >/dev/null || die "not root and no sudo: install LAMMPS with 'apt-get install -y lammps'"
-      sudo="sudo"
-    fi
-    $sudo apt-get update -q || die "apt-get update failed"
-    DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -q lammps || die "apt-get install lammps failed"
+    apt_install lammps
     LMP="$(find_lammps)" || die "lammps installed but no lmp executable on PATH"
   fi
   local help pk
