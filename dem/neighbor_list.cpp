@@ -6,6 +6,7 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace grainscale::dem {
 
@@ -50,9 +51,11 @@ const std::vector<std::uint32_t>& NeighborList::sort_by_cell(const Particles& p,
                  fz = std::floor((hi_z - lo_z) / cell_) + 1;
     if (fx * fy * fz <= max_cells) {
       const int counts[3] = {static_cast<int>(fx), static_cast<int>(fy), static_cast<int>(fz)};
-      // Fewest cells fastest, most cells slowest (ties keep x, y, z order: a stable sort).
+      // Fewest cells fastest, most cells slowest (ties keep x, y, z order). An insertion sort of
+      // three: std::stable_sort would allocate a buffer in the step loop.
       axis_[0] = 0, axis_[1] = 1, axis_[2] = 2;
-      std::stable_sort(axis_, axis_ + 3, [&](int a, int b) { return counts[a] < counts[b]; });
+      for (int k = 1; k < 3; ++k)
+        for (int j = k; j > 0 && counts[axis_[j]] < counts[axis_[j - 1]]; --j) std::swap(axis_[j], axis_[j - 1]);
       for (int k = 0; k < 3; ++k) n_[k] = counts[axis_[k]];
       break;
     }
