@@ -138,7 +138,7 @@ TEST_CASE("A hold study with validate reports the closure against the coarse-gra
   const std::string report = slurp(report_path);
   for (const char* text : {"## Closure vs DEM", "| free-surface angle |", "| surface speed |", "**does not reproduce**",
                            "](closure_vs_dem/surface_angle.png)", "](closure_vs_dem/surface_speed.png)", "3 frames from t = 0.3 s",
-                           "this study compares it with coarse-grained DEM"}) {
+                           "this study compares it with the coarse-grained DEM of one platform box"}) {
     INFO(text);
     CHECK(report.find(text) != std::string::npos);
   }
