@@ -3,7 +3,13 @@
 // (dem/particles.hpp); contacts act on the spheres and are summed on their body. A loose sphere is a
 // body with one sphere at its centre.
 //
-// Bodies keep their creation order (spheres are the ones renumbered for locality); `sphere_start` and
+// Like the spheres, bodies are renumbered at every neighbour-list build (Simulation::rebuild), in the
+// order of their first sphere's slot: the body and sphere loops of a step then walk both arrays in
+// the same spatial order, so a thread's bodies are those whose spheres it owns (no cache lines
+// passed between cores) and a large bed reads its bodies' state in order, not at random (the
+// per-sphere body reads were the non-linear part of the cost: docs/performance.md). `id` is the
+// permanent identity (creation number, 0 .. size()-1 in some order) that output uses; nothing in a
+// step depends on the body order, so the renumbering changes no result. `sphere_start` and
 // `sphere_slot` list each body's spheres by their current slot, rebuilt after each renumbering.
 #include <cstdint>
 #include <vector>
@@ -26,6 +32,21 @@ struct Bodies {
                                                          // sphere_slot[sphere_start[b] .. sphere_start[b+1])
 
   std::size_t size() const { return id.size(); }
+
+  /// Reorder the per-body arrays (not sphere_start / sphere_slot, which the caller rebuilds) so that
+  /// new index k holds what old index new_to_old[k] held. Allocation-free once the scratch buffers
+  /// have reached the body count.
+  void permute(const std::vector<std::uint32_t>& new_to_old);
+
+  /// Current index of the body with this id (linear search; for tests and diagnostics).
+  std::size_t index_of(std::uint64_t body_id) const;
+
+ private:
+  std::vector<double> scratch_d_;
+  std::vector<Vec3> scratch_v_;
+  std::vector<Quat> scratch_q_;
+  std::vector<std::uint64_t> scratch_u_;
+  std::vector<std::int32_t> scratch_i_;
 };
 
 }  // namespace grainscale::dem

@@ -2,6 +2,7 @@
 #include "dem/simulation.hpp"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -244,8 +245,13 @@ void Simulation::restore(SimulationState&& s) {
   }
   if (!(s.dt > 0) || !std::isfinite(s.dt)) bad("the time step must be positive and finite");
   if (!std::isfinite(s.time)) bad("the time must be finite");
+  std::vector<bool> id_seen(nb, false);  // bodies are renumbered with their spheres: any order of 0 .. nb-1
   for (std::size_t k = 0; k < nb; ++k) {
-    if (b.id[k] != k) bad("bodies.id must be 0, 1, 2, ... (body " + std::to_string(k) + " has id " + std::to_string(b.id[k]) + ")");
+    if (b.id[k] >= nb || id_seen[b.id[k]]) {
+      bad("bodies.id must hold each of 0 .. " + std::to_string(nb) + "-1 once (body " + std::to_string(k) +
+          " has id " + std::to_string(b.id[k]) + ")");
+    }
+    id_seen[b.id[k]] = true;
     if (b.shape[k] < -1 || b.shape[k] >= static_cast<std::int64_t>(s.shape_names.size())) {
       bad("body " + std::to_string(k) + " has shape index " + std::to_string(b.shape[k]) + " outside [-1, " +
           std::to_string(s.shape_names.size()) + ")");
@@ -324,6 +330,10 @@ void Simulation::restore(SimulationState&& s) {
   stability_ = s.stability;
   worst_stability_ = s.worst_stability;
   moved2_ = 0;  // recomputed by the next step's drift before it is used
+  // A state written before bodies were renumbered with their spheres has them in id order; the order
+  // changes no result (dem/bodies.hpp), so it is set here rather than at the next list build.
+  renumber_bodies();
+  index_spheres_by_body();
   for (Wall& w : walls_) w.move_to(time_);
   ready_ = true;
 }
@@ -341,8 +351,29 @@ void Simulation::rebuild() {
   const std::vector<std::uint32_t>& order = *sorted;
   particles_.permute(order);
   forces_.permute(order);
+  renumber_bodies();
   neighbors_.build(particles_, skin_, order);
   index_spheres_by_body();
+}
+
+void Simulation::renumber_bodies() {
+  // Bodies in the order of their first sphere's slot (dem/bodies.hpp); allocation-free once the
+  // scratch vectors have reached the body count.
+  Particles& p = particles_;
+  const std::size_t nb = bodies_.size(), n = p.size();
+  constexpr std::uint32_t kUnset = std::numeric_limits<std::uint32_t>::max();
+  body_new_index_.assign(nb, kUnset);
+  body_order_.clear();
+  for (std::size_t s = 0; s < n; ++s) {
+    std::uint32_t& k = body_new_index_[p.body[s]];
+    if (k == kUnset) {
+      k = static_cast<std::uint32_t>(body_order_.size());
+      body_order_.push_back(p.body[s]);
+    }
+  }
+  assert(body_order_.size() == nb);  // every body has a sphere
+  bodies_.permute(body_order_);
+  for (std::size_t s = 0; s < n; ++s) p.body[s] = body_new_index_[p.body[s]];
 }
 
 

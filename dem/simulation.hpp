@@ -155,6 +155,7 @@ class Simulation {
   void update_sphere_state() const;
   void move_spheres_with_bodies();
   void index_spheres_by_body();
+  void renumber_bodies();
   void sum_forces_on_bodies(double half_kick = 0);
 
   MaterialTable materials_;
@@ -172,6 +173,7 @@ class Simulation {
   std::uint64_t steps_ = 0, next_sphere_id_ = 0;
   double moved2_ = 0;  // largest squared sphere displacement since the last neighbour build
   std::vector<std::uint32_t> body_fill_;  // scratch for index_spheres_by_body
+  std::vector<std::uint32_t> body_order_, body_new_index_;  // scratch for renumber_bodies
   /// Mass properties of each distinct sphere set added so far (mass_properties_of).
   std::vector<std::pair<std::vector<SphereComponent>, MassProperties>> mass_cache_;
   bool ready_ = false;

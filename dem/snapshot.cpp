@@ -248,19 +248,26 @@ std::vector<double> flatten(const std::vector<Vec3>& v) {
   return out;
 }
 
-/// Bodies are stored in id order already (creation order; only spheres are renumbered).
+/// Bodies are renumbered with their spheres (dem/bodies.hpp); the file is in id order.
 void write_bodies(hid_t file, const Bodies& b, const CreationProperties& props) {
   const std::size_t n = b.size();
+  std::vector<std::size_t> at(n);  // at[id] = current index (ids are 0 .. n-1)
+  for (std::size_t k = 0; k < n; ++k) at[b.id[k]] = k;
+  auto gather = [&](const auto& field) {
+    std::vector<std::decay_t<decltype(field[0])>> out(n);
+    for (std::size_t k = 0; k < n; ++k) out[k] = field[at[k]];
+    return out;
+  };
   const Handle g = create_group(file, "bodies", props.group.id());
   const hid_t dcpl = props.dataset.id();
-  write_dataset(g.id(), "id", b.id, n, 0, dcpl);
-  write_dataset(g.id(), "shape", b.shape, n, 0, dcpl);
-  write_dataset(g.id(), "mass", b.mass, n, 0, dcpl);
-  write_dataset(g.id(), "inertia", flatten(b.inertia), n, 3, dcpl);
-  write_dataset(g.id(), "position", flatten(b.x), n, 3, dcpl);
-  write_dataset(g.id(), "velocity", flatten(b.v), n, 3, dcpl);
-  write_dataset(g.id(), "angular_velocity", flatten(b.omega), n, 3, dcpl);
-  write_dataset(g.id(), "orientation", flatten(b.q), n, 4, dcpl);
+  write_dataset(g.id(), "id", gather(b.id), n, 0, dcpl);
+  write_dataset(g.id(), "shape", gather(b.shape), n, 0, dcpl);
+  write_dataset(g.id(), "mass", gather(b.mass), n, 0, dcpl);
+  write_dataset(g.id(), "inertia", flatten(gather(b.inertia)), n, 3, dcpl);
+  write_dataset(g.id(), "position", flatten(gather(b.x)), n, 3, dcpl);
+  write_dataset(g.id(), "velocity", flatten(gather(b.v)), n, 3, dcpl);
+  write_dataset(g.id(), "angular_velocity", flatten(gather(b.omega)), n, 3, dcpl);
+  write_dataset(g.id(), "orientation", flatten(gather(b.q)), n, 4, dcpl);
 }
 
 void write_particles(hid_t file, const Particles& p, const Bodies& bodies, const CreationProperties& props) {

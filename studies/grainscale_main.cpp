@@ -191,12 +191,17 @@ int run_dem(const Args& a) {
   return 0;
 }
 
-/// FNV-1a over the bytes of the bodies' positions, orientations, velocities and angular momenta.
+/// FNV-1a over the bytes of the bodies' positions, orientations, velocities and angular momenta,
+/// in id order (the array order follows the spheres' and is not part of the state).
 std::uint64_t state_fingerprint(const dem::Bodies& b) {
   std::uint64_t h = 1469598103934665603ull;
+  std::vector<std::size_t> at(b.size());
+  for (std::size_t k = 0; k < b.size(); ++k) at[b.id[k]] = k;
   auto add = [&](const auto& v) {
-    const auto* bytes = reinterpret_cast<const unsigned char*>(v.data());
-    for (std::size_t k = 0; k < v.size() * sizeof(v[0]); ++k) h = (h ^ bytes[k]) * 1099511628211ull;
+    for (std::size_t k = 0; k < v.size(); ++k) {
+      const auto* bytes = reinterpret_cast<const unsigned char*>(&v[at[k]]);
+      for (std::size_t c = 0; c < sizeof(v[0]); ++c) h = (h ^ bytes[c]) * 1099511628211ull;
+    }
   };
   add(b.x), add(b.q), add(b.v), add(b.L);
   return h;

@@ -186,7 +186,7 @@ Landing land_on_chaff(double fraction) {
   Landing r;
   for (int s = 0; s < static_cast<int>(0.02 / sim.dt()) && r.flake_speed < 5; ++s) {
     sim.step();
-    r.flake_speed = std::max(r.flake_speed, norm(sim.bodies().v[0]));
+    r.flake_speed = std::max(r.flake_speed, norm(sim.bodies().v[sim.bodies().index_of(0)]));
     r.overlap = std::max(r.overlap, sim.diagnostics().max_overlap_ratio);
   }
   r.worst = sim.worst_stability();

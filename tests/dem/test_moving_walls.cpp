@@ -54,11 +54,11 @@ TEST_CASE("On a turning disc a block co-rotates; a free ball orbits at 2/7 of th
   sim.walls().back().set_motion({std::make_shared<SteadyMotion>(Vec3{}, Vec3{0, 0, rate}), {0, 0, 0}});
   sim.setup();
   sim.run_steps(static_cast<std::uint64_t>(2.0 / sim.dt()));  // 2 s: one radian of the disc
-  const Vec3 xb = sim.bodies().x[0], vb = sim.bodies().v[0];
+  const Vec3 xb = sim.bodies().x[sim.bodies().index_of(0)], vb = sim.bodies().v[sim.bodies().index_of(0)];
   CHECK_THAT(std::atan2(xb.y, xb.x), WithinAbs(rate * sim.time(), 0.01));  // turned with the disc
   CHECK_THAT(std::hypot(xb.x, xb.y), WithinAbs(0.05, 1e-4));
   CHECK(norm(vb - cross(Vec3{0, 0, rate}, xb)) < 0.01 * rate * 0.05);
-  const Vec3 xs = sim.bodies().x[1];
+  const Vec3 xs = sim.bodies().x[sim.bodies().index_of(1)];
   CHECK_THAT(std::atan2(xs.y, xs.x) - std::numbers::pi / 2, WithinAbs(2.0 / 7.0 * rate * sim.time(), 0.01));
   CHECK_THAT(std::hypot(xs.x, xs.y), WithinAbs(0.05, 5e-4));
 }
@@ -77,14 +77,14 @@ TEST_CASE("In a surging box a block moves with the box; a ball lags by 5/7 of th
   d[3] = {amplitude, 0.5, std::numbers::pi / 2};  // starts at rest: x = A cos(omega t)
   sim.walls().back().set_motion({std::make_shared<SinusoidalMotion>(d), {0, 0, 0}});
   sim.setup();
-  const Vec3 block0 = sim.bodies().x[0], ball0 = sim.bodies().x[1], shift0 = sim.walls()[0].pose().origin;
+  const Vec3 block0 = sim.bodies().x[sim.bodies().index_of(0)], ball0 = sim.bodies().x[sim.bodies().index_of(1)], shift0 = sim.walls()[0].pose().origin;
   double block_worst = 0, ball_worst = 0, box_max = 0;
   for (int s = 0; s < static_cast<int>(3.0 / sim.dt()); ++s) {
     sim.step();
     const Vec3 shift = sim.walls()[0].pose().origin - shift0;
     box_max = std::max(box_max, std::abs(shift.x));
-    block_worst = std::max(block_worst, norm(sim.bodies().x[0] - block0 - shift));
-    ball_worst = std::max(ball_worst, norm(sim.bodies().x[1] - ball0 - (2.0 / 7.0) * shift));
+    block_worst = std::max(block_worst, norm(sim.bodies().x[sim.bodies().index_of(0)] - block0 - shift));
+    ball_worst = std::max(ball_worst, norm(sim.bodies().x[sim.bodies().index_of(1)] - ball0 - (2.0 / 7.0) * shift));
   }
   CHECK_THAT(box_max, WithinAbs(2 * amplitude, 1e-4));  // the box did move
   CHECK(block_worst < 2e-4);                        // the block stayed put in it
@@ -124,7 +124,7 @@ TEST_CASE("Tilt table: a clump on a slowly tilting floor starts to slide within 
   double slide_angle = -1;
   for (int s = 0; s < static_cast<int>(10.0 / sim.dt()); ++s) {
     sim.step();
-    const Vec3 in_floor = sim.walls()[0].pose().to_body(sim.bodies().x[0]);
+    const Vec3 in_floor = sim.walls()[0].pose().to_body(sim.bodies().x[sim.bodies().index_of(0)]);
     if (s == static_cast<int>(0.5 / sim.dt())) start_in_floor = in_floor;  // after settling on it
     if (s > static_cast<int>(0.5 / sim.dt()) && norm(in_floor - start_in_floor) > 2e-4) {
       slide_angle = onset - 4 + sim.time();
