@@ -12,6 +12,7 @@ namespace grainscale::dem {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr std::size_t kPrefetchAhead = 16;  // spheres
 
 /// Contact and rolling parameters for every material pair that is defined.
 template <class Rolling, class MakeRolling>
@@ -76,6 +77,12 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
   const std::size_t n = p.size();
   const std::size_t entries = nl.entries();
   partner_share_.resize(entries);
+  // Wall contacts are double-buffered: last step's are read from the scratch buffer while this
+  // step's are written (no copy of a sphere's old slots, which perf showed stalling on the stores
+  // it had just made).
+  resize(n);
+  wall_slots_.swap(wall_scratch_);
+  wall_count_.swap(count_scratch_);
   resize(n);
   if (list_generation_ != nl.generation() || touching_.size() != entries) {
     // A new list: flag every entry whose carried-over history is non-zero (then cleared if apart).
@@ -171,13 +178,22 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
     }
 
     // Wall contacts; histories found by (wall, feature) among last step's contacts of this particle.
-    const int previous = wall_count_[i];
+    // A sphere's slots are a cache line or more apart from the next one's, and only spheres at a wall
+    // use them, so no hardware prefetcher follows: fetch them a few spheres ahead.
+    if (i + kPrefetchAhead < n && count_scratch_[i + kPrefetchAhead] > 0) {
+      // (A slot is 56 bytes: its first one may straddle two lines.)
+      const char* old_slots = reinterpret_cast<const char*>(&wall_scratch_[(i + kPrefetchAhead) * kWallSlots]);
+      const char* new_slots = reinterpret_cast<const char*>(&wall_slots_[(i + kPrefetchAhead) * kWallSlots]);
+      __builtin_prefetch(old_slots), __builtin_prefetch(old_slots + sizeof(WallSlot) - 1);
+      __builtin_prefetch(new_slots, 1), __builtin_prefetch(new_slots + sizeof(WallSlot) - 1, 1);
+    }
+    const int previous = count_scratch_[i];
     const std::uint32_t near = near_walls_[i];
-    // Most of a bed has no wall within reach and had no wall contact: skip the lot (and the copy).
+    wall_count_[i] = 0;
+    // Most of a bed has no wall within reach and had no wall contact: skip the lot.
     if (previous > 0 || near != 0 || walls.size() > kMaskedWalls) {
       WallSlot* slots = &wall_slots_[i * kWallSlots];
-      UninitializedArray<WallSlot, kWallSlots> old;
-      for (int o = 0; o < previous; ++o) old[o] = slots[o];
+      const WallSlot* old = &wall_scratch_[i * kWallSlots];
       int used = 0;
       const Vec3 xi = p.x[i], vi = p.v[i], wi = p.omega[i];
       const double ri = p.radius[i];
@@ -190,12 +206,17 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
             overflow = std::min<std::int64_t>(overflow, static_cast<std::int64_t>(i));
             break;
           }
+          // The slot is assembled in registers and stored once at the end: matching against fields
+          // just stored (a WallSlot built in memory) stalled on store forwarding (perf: a third of
+          // pass 2 on a bed lying on its floor).
           WallSlot s{static_cast<std::int32_t>(w), wc[q].feature, {}};
           bool matched = false;
           for (int o = 0; o < previous; ++o) {
-            if (old[o].wall == s.wall && old[o].feature == s.feature) s.history = old[o].history, matched = true;
+            if (old[o].wall == static_cast<std::int32_t>(w) && old[o].feature == wc[q].feature) {
+              s.history = old[o].history, matched = true;
+            }
           }
-          if (!matched && previous > 0) inherit_history(walls[w].geometry(), old.data(), previous, wc.data(), found, s);
+          if (!matched && previous > 0) inherit_history(walls[w].geometry(), old, previous, wc.data(), found, s);
           const WallPose& pose = walls[w].pose();
           ContactKinematics c;
           c.n = wc[q].normal;

@@ -119,7 +119,9 @@ class ForceField {
   std::uint32_t mask_moving_ = 0;     // and which of them were moving
   void find_near_walls(const Particles& p, const std::vector<Wall>& walls, double skin);
   bool walls_where_found(const std::vector<Wall>& walls) const;
-  std::vector<WallSlot> wall_slots_, wall_scratch_;  // kWallSlots per particle; the first wall_count_[i] used
+  // kWallSlots per particle, the first wall_count_[i] used; the scratch pair holds the step before
+  // during compute (double buffer) and is scratch for permute otherwise.
+  std::vector<WallSlot> wall_slots_, wall_scratch_;
   std::vector<std::uint8_t> wall_count_, count_scratch_;
 };
 
