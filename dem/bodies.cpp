@@ -3,16 +3,14 @@
 #include <stdexcept>
 #include <string>
 
-#include "dem/particles.hpp"
-
 namespace grainscale::dem {
 
 void Bodies::permute(const std::vector<std::uint32_t>& p) {
-  permute_array(id, scratch_u_, p);
-  permute_array(shape, scratch_i_, p);
-  for (auto* a : {&mass, &inv_mass}) permute_array(*a, scratch_d_, p);
-  for (auto* a : {&inertia, &x, &v, &L, &omega, &force, &torque}) permute_array(*a, scratch_v_, p);
-  permute_array(q, scratch_q_, p);
+  scratch_.apply(id, p);
+  scratch_.apply(shape, p);
+  for (auto* a : {&mass, &inv_mass}) scratch_.apply(*a, p);
+  for (auto* a : {&inertia, &x, &v, &L, &omega, &force, &torque}) scratch_.apply(*a, p);
+  scratch_.apply(q, p);
 }
 
 std::size_t Bodies::index_of(std::uint64_t body_id) const {

@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "dem/permutation.hpp"
 #include "dem/quaternion.hpp"
 #include "dem/vec3.hpp"
 
@@ -42,11 +43,7 @@ struct Bodies {
   std::size_t index_of(std::uint64_t body_id) const;
 
  private:
-  std::vector<double> scratch_d_;
-  std::vector<Vec3> scratch_v_;
-  std::vector<Quat> scratch_q_;
-  std::vector<std::uint64_t> scratch_u_;
-  std::vector<std::int32_t> scratch_i_;
+  PermuteScratch scratch_;
 };
 
 }  // namespace grainscale::dem

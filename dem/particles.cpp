@@ -35,12 +35,12 @@ std::size_t Particles::add_component(std::uint64_t pid, std::uint32_t b, int mat
 }
 
 void Particles::permute(const std::vector<std::uint32_t>& p) {
-  permute_array(id, scratch_u_, p);
-  permute_array(material, scratch_i_, p);
-  permute_array(body, scratch_b_, p);
-  for (auto* a : {&radius, &mass, &inertia, &mass_share}) permute_array(*a, scratch_d_, p);
-  for (auto* a : {&offset, &x, &v, &omega, &force, &torque, &x_at_build}) permute_array(*a, scratch_v_, p);
-  permute_array(q, scratch_q_, p);
+  scratch_.apply(id, p);
+  scratch_.apply(material, p);
+  scratch_.apply(body, p);
+  for (auto* a : {&radius, &mass, &inertia, &mass_share}) scratch_.apply(*a, p);
+  for (auto* a : {&offset, &x, &v, &omega, &force, &torque, &x_at_build}) scratch_.apply(*a, p);
+  scratch_.apply(q, p);
 }
 
 std::size_t Particles::slot_of(std::uint64_t pid) const {

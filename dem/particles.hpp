@@ -10,7 +10,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "dem/parallel.hpp"
+#include "dem/permutation.hpp"
 #include "dem/quaternion.hpp"
 #include "dem/vec3.hpp"
 
@@ -47,22 +47,7 @@ struct Particles {
   std::size_t slot_of(std::uint64_t pid) const;
 
  private:
-  std::vector<double> scratch_d_;
-  std::vector<Vec3> scratch_v_;
-  std::vector<Quat> scratch_q_;
-  std::vector<std::uint64_t> scratch_u_;
-  std::vector<std::int32_t> scratch_i_;
-  std::vector<std::uint32_t> scratch_b_;
+  PermuteScratch scratch_;
 };
-
-/// Apply `new_to_old` to one array through a scratch buffer (swap keeps both capacities).
-template <class T>
-void permute_array(std::vector<T>& a, std::vector<T>& scratch, const std::vector<std::uint32_t>& new_to_old) {
-  scratch.resize(a.size());
-  const std::size_t n = a.size();
-#pragma omp parallel for if(n >= parallel_min_items()) schedule(static)
-  for (std::size_t i = 0; i < n; ++i) scratch[i] = a[new_to_old[i]];
-  a.swap(scratch);
-}
 
 }  // namespace grainscale::dem
