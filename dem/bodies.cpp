@@ -20,4 +20,10 @@ std::size_t Bodies::index_of(std::uint64_t body_id) const {
   throw std::out_of_range("no body with id " + std::to_string(body_id));
 }
 
+std::vector<std::size_t> Bodies::indices_by_id() const {
+  std::vector<std::size_t> at(id.size());  // (ids are 0 .. size()-1: Simulation::restore checks)
+  for (std::size_t k = 0; k < id.size(); ++k) at[id[k]] = k;
+  return at;
+}
+
 }  // namespace grainscale::dem

@@ -41,6 +41,8 @@ struct Bodies {
 
   /// Current index of the body with this id (linear search; for tests and diagnostics).
   std::size_t index_of(std::uint64_t body_id) const;
+  /// The current indices in id order: element k is the index of the body with id k (for output).
+  std::vector<std::size_t> indices_by_id() const;
 
  private:
   PermuteScratch scratch_;

@@ -79,7 +79,8 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
   partner_share_.resize(entries);
   // Wall contacts are double-buffered: last step's are read from the scratch buffer while this
   // step's are written (no copy of a sphere's old slots, which perf showed stalling on the stores
-  // it had just made).
+  // it had just made). Sized before the swap (last step's slots for spheres added since) and after
+  // (this step's).
   resize(n);
   wall_slots_.swap(wall_scratch_);
   wall_count_.swap(count_scratch_);

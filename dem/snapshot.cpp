@@ -251,8 +251,7 @@ std::vector<double> flatten(const std::vector<Vec3>& v) {
 /// Bodies are renumbered with their spheres (dem/bodies.hpp); the file is in id order.
 void write_bodies(hid_t file, const Bodies& b, const CreationProperties& props) {
   const std::size_t n = b.size();
-  std::vector<std::size_t> at(n);  // at[id] = current index (ids are 0 .. n-1)
-  for (std::size_t k = 0; k < n; ++k) at[b.id[k]] = k;
+  const std::vector<std::size_t> at = b.indices_by_id();
   auto gather = [&](const auto& field) {
     std::vector<std::decay_t<decltype(field[0])>> out(n);
     for (std::size_t k = 0; k < n; ++k) out[k] = field[at[k]];

@@ -195,8 +195,7 @@ int run_dem(const Args& a) {
 /// in id order (the array order follows the spheres' and is not part of the state).
 std::uint64_t state_fingerprint(const dem::Bodies& b) {
   std::uint64_t h = 1469598103934665603ull;
-  std::vector<std::size_t> at(b.size());
-  for (std::size_t k = 0; k < b.size(); ++k) at[b.id[k]] = k;
+  const std::vector<std::size_t> at = b.indices_by_id();
   auto add = [&](const auto& v) {
     for (std::size_t k = 0; k < v.size(); ++k) {
       const auto* bytes = reinterpret_cast<const unsigned char*>(&v[at[k]]);
