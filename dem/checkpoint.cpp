@@ -396,28 +396,46 @@ void write_state(ImageWriter& w, const Simulation& sim) {
   w.attribute("/", "wall_names", walls);
   w.attribute("/", "shape_names", sim.shape_names());
 
+  // Bodies in id order, as format_version 1 has always had them: the simulation keeps them in its
+  // spheres' order (dem/bodies.hpp), which changes no result and is set again on restore, so the
+  // file stays readable by every build of this format.
   const Bodies& b = sim.bodies();
+  const std::vector<std::size_t> at = b.indices_by_id();
+  auto by_id = [&](const auto& field) {
+    std::vector<std::decay_t<decltype(field[0])>> out(at.size());
+    for (std::size_t k = 0; k < at.size(); ++k) out[k] = field[at[k]];
+    return out;
+  };
+  std::vector<std::uint32_t> sphere_start{0}, sphere_slot;  // the same index, body rows in id order
+  sphere_slot.reserve(b.sphere_slot.size());
+  for (std::size_t k = 0; k < at.size(); ++k) {
+    sphere_slot.insert(sphere_slot.end(), b.sphere_slot.begin() + b.sphere_start[at[k]],
+                       b.sphere_slot.begin() + b.sphere_start[at[k] + 1]);
+    sphere_start.push_back(static_cast<std::uint32_t>(sphere_slot.size()));
+  }
   w.group("/bodies");
-  w.dataset("/bodies/id", b.id);
-  w.dataset("/bodies/shape", b.shape);
-  w.dataset("/bodies/mass", b.mass);
-  w.dataset("/bodies/inv_mass", b.inv_mass);
-  w.dataset("/bodies/inertia", b.inertia);
-  w.dataset("/bodies/position", b.x);
-  w.dataset("/bodies/velocity", b.v);
-  w.dataset("/bodies/angular_momentum", b.L);
-  w.dataset("/bodies/angular_velocity", b.omega);
-  w.dataset("/bodies/orientation", b.q);
-  w.dataset("/bodies/force", b.force);
-  w.dataset("/bodies/torque", b.torque);
-  w.dataset("/bodies/sphere_start", b.sphere_start);
-  w.dataset("/bodies/sphere_slot", b.sphere_slot);
+  w.dataset("/bodies/id", by_id(b.id));
+  w.dataset("/bodies/shape", by_id(b.shape));
+  w.dataset("/bodies/mass", by_id(b.mass));
+  w.dataset("/bodies/inv_mass", by_id(b.inv_mass));
+  w.dataset("/bodies/inertia", by_id(b.inertia));
+  w.dataset("/bodies/position", by_id(b.x));
+  w.dataset("/bodies/velocity", by_id(b.v));
+  w.dataset("/bodies/angular_momentum", by_id(b.L));
+  w.dataset("/bodies/angular_velocity", by_id(b.omega));
+  w.dataset("/bodies/orientation", by_id(b.q));
+  w.dataset("/bodies/force", by_id(b.force));
+  w.dataset("/bodies/torque", by_id(b.torque));
+  w.dataset("/bodies/sphere_start", sphere_start);
+  w.dataset("/bodies/sphere_slot", sphere_slot);
 
   const Particles& p = sim.particles();
+  std::vector<std::uint32_t> body_row(p.size());  // a sphere's body as its row: the body's id
+  for (std::size_t s = 0; s < p.size(); ++s) body_row[s] = static_cast<std::uint32_t>(b.id[p.body[s]]);
   w.group("/particles");
   w.dataset("/particles/id", p.id);
   w.dataset("/particles/material", p.material);
-  w.dataset("/particles/body", p.body);
+  w.dataset("/particles/body", body_row);
   w.dataset("/particles/offset", p.offset);
   w.dataset("/particles/radius", p.radius);
   w.dataset("/particles/body_mass", p.mass);

@@ -217,9 +217,9 @@ TEST_CASE("A blown-up state is never written over a good checkpoint", "[dem][che
 
 TEST_CASE("Bodies are numbered in their spheres' order, and no result depends on that order", "[dem][checkpoint]") {
   // dem/bodies.hpp: bodies are renumbered with their spheres so that a step's body and sphere loops
-  // walk memory in the same order. That order is a layout choice only: a saved state whose bodies
-  // come in another order (here reversed; checkpoints written before the renumbering are in id
-  // order) is accepted and continues exactly as the original, body by body. (That the step itself
+  // walk memory in the same order. That order is a layout choice only: checkpoints store the bodies
+  // in id order, and a saved state whose bodies come in any other order (here reversed) is accepted
+  // and continues exactly as the original, body by body. (That the step itself
   // does not depend on the order was checked when it was introduced: the clump bed ended on the same
   // fingerprint with and without the renumbering, docs/performance.md.)
   const testing::CheckpointTempDir dir;
@@ -248,6 +248,7 @@ TEST_CASE("Bodies are numbered in their spheres' order, and no result depends on
   Checkpoint c = read_checkpoint(file);
   SimulationState& s = c.simulation;
   const std::size_t nb = s.bodies.size();
+  for (std::size_t k = 0; k < nb; ++k) REQUIRE(s.bodies.id[k] == k);  // the file is in id order
   std::vector<std::uint32_t> reversed(nb);
   for (std::size_t k = 0; k < nb; ++k) reversed[k] = static_cast<std::uint32_t>(nb - 1 - k);
   s.bodies.permute(reversed);
