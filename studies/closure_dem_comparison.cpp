@@ -121,11 +121,27 @@ void rms_max(const std::vector<double>& a, const std::vector<double>& b, double&
   if (!n) mx = NAN;
 }
 
+/// The fitted closure's series and a vertical line at the end of the training frames, spanning `range`'s values.
+void add_fit_series(LinePlot& lp, const ClosureFit& fit, const std::vector<double>& t, const std::vector<double>& y,
+                    const std::vector<double>& range) {
+  char name[64];
+  std::snprintf(name, sizeof name, "closure fitted to t <= %g s", fit.settings.train_until);
+  lp.series.push_back({name, t, y});
+  double lo = 0, hi = 0;
+  for (double v : range) {
+    if (std::isfinite(v)) lo = std::min(lo, v), hi = std::max(hi, v);
+  }
+  Series split{"end of training frames", {fit.settings.train_until, fit.settings.train_until}, {lo, hi}};
+  split.line = LineStyle::dashed;
+  split.width = 1;
+  lp.series.push_back(split);
+}
+
 }  // namespace
 
 ClosureDemComparison compare_closure_with_dem(const std::string& cg_fields, const std::string& dem_scenario,
                                               const std::string& container, const HoldSettings& material,
-                                              const std::string& folder) {
+                                              const std::string& folder, const std::optional<ClosureFitSettings>& fit) {
   ClosureDemComparison out;
   out.cg_fields = cg_fields, out.dem_scenario = dem_scenario, out.material_from = material.name;
   const DemFields dem = read_dem_fields(cg_fields);
@@ -226,9 +242,16 @@ ClosureDemComparison compare_closure_with_dem(const std::string& cg_fields, cons
   }
 
   // The closure from the DEM's bed, the same two measures from h and u_s (u_s at the centre: mean of
-  // the two faces), with the friction given.
-  auto run_closure = [&](const BedFriction& fr, std::vector<double>& angle_deg, std::vector<double>& surface_speed) {
+  // the two faces), with the friction given. The surface speed is averaged over the DEM measure's depth
+  // min(ℓ, h) (ℓ the a-priori flowing layer) through the closure's own profile u_s e^{−ζ/ℓ_c}.
+  struct ClosureSeries {
+    std::vector<double> angle_deg, speed;
+    std::vector<std::vector<double>> depth;
+  };
+  auto run_closure = [&](const BedFriction& fr, bool keep_depth) {
+    ClosureSeries r;
     sec.friction = fr;
+    const double lc = fr.layer_depth;
     continuum::closure::ShallowGranularFlow flow(sec, continuum::closure::ContainerGravity(wall->motion.profile, p), h0,
                                                  dem.frames[first].t);
     for (std::size_t f = first; f < dem.frames.size(); ++f) {
@@ -242,24 +265,39 @@ ClosureDemComparison compare_closure_with_dem(const std::string& cg_fields, cons
       for (int i = 0; i < nx; ++i) {
         if (!(hc[i] > h_min)) continue;
         const double u = 0.5 * (us[i] + us[i + 1]), m = std::min(ell, hc[i]);
-        cspeed += std::isfinite(ell) ? u * ell * (1 - std::exp(-m / ell)) / m : u;
+        cspeed += std::isfinite(lc) ? u * lc * (1 - std::exp(-m / lc)) / m : u;
         ++ccols;
       }
-      angle_deg.push_back((tilt - std::atan(slope(xc, hc, h_min))) * 180 / M_PI);
-      surface_speed.push_back(ccols ? cspeed / ccols : NAN);
+      r.angle_deg.push_back((tilt - std::atan(slope(xc, hc, h_min))) * 180 / M_PI);
+      r.speed.push_back(ccols ? cspeed / ccols : NAN);
+      if (keep_depth) r.depth.push_back(hc);
     }
+    return r;
   };
   BedFriction walled = friction;
   walled.side_walls.width = out.side_wall_width;
   walled.side_walls.friction = out.side_wall_friction;
-  run_closure(walled, out.closure_angle_deg, out.closure_speed);
+  {
+    ClosureSeries r = run_closure(walled, true);
+    out.closure_angle_deg = std::move(r.angle_deg), out.closure_speed = std::move(r.speed), out.closure_depth = std::move(r.depth);
+  }
   BedFriction open = friction;
   open.side_walls = continuum::closure::SideWallFriction{};
-  run_closure(open, out.open_angle_deg, out.open_speed);
+  {
+    ClosureSeries r = run_closure(open, false);
+    out.open_angle_deg = std::move(r.angle_deg), out.open_speed = std::move(r.speed);
+  }
   rms_max(out.dem_angle_deg, out.open_angle_deg, out.open_angle_rms_error_deg, out.open_angle_max_error_deg);
   rms_max(out.dem_speed, out.open_speed, out.open_speed_rms_error, out.open_speed_max_error);
   rms_max(out.dem_angle_deg, out.closure_angle_deg, out.angle_rms_error_deg, out.angle_max_error_deg);
   rms_max(out.dem_speed, out.closure_speed, out.speed_rms_error, out.speed_max_error);
+  if (fit) {
+    const ClosureRun closure = [&](const BedFriction& fr, std::vector<double>& a, std::vector<double>& u) {
+      ClosureSeries r = run_closure(fr, false);
+      a = std::move(r.angle_deg), u = std::move(r.speed);
+    };
+    out.fit = fit_closure_friction(*fit, cg_fields, out.times, out.dem_angle_deg, out.dem_speed, walled, closure);
+  }
   {
     double s = 0;
     int n = 0;
@@ -278,11 +316,17 @@ ClosureDemComparison compare_closure_with_dem(const std::string& cg_fields, cons
         << "# closure: with side-wall friction mu_w a/W, W = " << out.side_wall_width << " m, mu_w = " << out.side_wall_friction
         << "; closure_2d: without side walls\n"
         << "t_s,tilt_deg,dem_surface_angle_deg,closure_surface_angle_deg,dem_surface_speed_m_s,closure_surface_speed_m_s,"
-           "closure_2d_surface_angle_deg,closure_2d_surface_speed_m_s\n";
+           "closure_2d_surface_angle_deg,closure_2d_surface_speed_m_s"
+        << (out.fit ? ",fitted_surface_angle_deg,fitted_surface_speed_m_s,block" : "") << "\n";
     csv.precision(9);
     for (std::size_t j = 0; j < out.times.size(); ++j) {
       csv << out.times[j] << "," << out.tilt_deg[j] << "," << out.dem_angle_deg[j] << "," << out.closure_angle_deg[j] << ","
-          << out.dem_speed[j] << "," << out.closure_speed[j] << "," << out.open_angle_deg[j] << "," << out.open_speed[j] << "\n";
+          << out.dem_speed[j] << "," << out.closure_speed[j] << "," << out.open_angle_deg[j] << "," << out.open_speed[j];
+      if (out.fit) {
+        csv << "," << out.fit->angle_deg[j] << "," << out.fit->speed[j] << ","
+            << (out.times[j] <= out.fit->settings.train_until ? "train" : "test");
+      }
+      csv << "\n";
     }
     dem::write_file_atomically((fs::path(folder) / "comparison.csv").string(), csv.str());
   }
@@ -299,6 +343,7 @@ ClosureDemComparison compare_closure_with_dem(const std::string& cg_fields, cons
     Series tilt{"box tilt", out.times, out.tilt_deg};
     tilt.line = LineStyle::dashed;
     lp.series.push_back(tilt);
+    if (out.fit) add_fit_series(lp, *out.fit, out.times, out.fit->angle_deg, out.tilt_deg);
     draw(lp).write_png((fs::path(folder) / "surface_angle.png").string());
     out.figures.push_back("surface_angle.png");
   }
@@ -312,6 +357,7 @@ ClosureDemComparison compare_closure_with_dem(const std::string& cg_fields, cons
     Series open{"closure, no side walls", out.times, out.open_speed};
     open.line = LineStyle::dashed;
     lp.series.push_back(open);
+    if (out.fit) add_fit_series(lp, *out.fit, out.times, out.fit->speed, out.dem_speed);
     draw(lp).write_png((fs::path(folder) / "surface_speed.png").string());
     out.figures.push_back("surface_speed.png");
   }

@@ -19,16 +19,14 @@
 // "Agrees" (this study's bar, not a published one): surface angle within kAngleTolerance RMS and
 // surface speed within kSpeedTolerance of the DEM's RMS surface speed (at least kSpeedFloor) RMS.
 #include <cmath>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "studies/closure_friction_fit.hpp"
 #include "studies/hold_settings.hpp"
 
 namespace grainscale::studies {
-
-inline constexpr double kAngleTolerance = 1.0;   // deg
-inline constexpr double kSpeedTolerance = 0.5;   // of the DEM's RMS surface speed
-inline constexpr double kSpeedFloor = 0.01;      // m/s: below this the DEM bed counts as still
 
 struct ClosureDemComparison {
   std::string cg_fields, dem_scenario, material_from;
@@ -38,20 +36,24 @@ struct ClosureDemComparison {
   std::vector<double> dem_angle_deg, closure_angle_deg; // free-surface angle to the horizontal [deg]
   std::vector<double> dem_speed, closure_speed;         // surface speed along the box [m/s]
   std::vector<double> open_angle_deg, open_speed;       // the closure without side walls
+  std::vector<std::vector<double>> closure_depth;       // h at the cell centres per frame (side walls) [m]
   double side_wall_width = 0, side_wall_friction = NAN; // W [m] and μ_w used
   double angle_rms_error_deg = 0, angle_max_error_deg = 0;
   double speed_rms_error = 0, speed_max_error = 0, dem_speed_rms = 0;
   double open_angle_rms_error_deg = 0, open_angle_max_error_deg = 0, open_speed_rms_error = 0, open_speed_max_error = 0;
   bool agrees = false;
+  std::optional<ClosureFit> fit;     // when asked for
   std::vector<std::string> figures;  // written into the folder given (with comparison.csv), names relative to it
   std::vector<std::string> notes;    // what limits the comparison
 };
 
 /// Throws InputError naming the file for a fields file without surface heights or velocities, a
 /// scenario without the container's motion or the grain-wall pair friction, or fewer than 2 frames
-/// with grain.
+/// with grain; and, with a fit, an unknown parameter name, or a split that leaves fewer than 3 frames
+/// on either side.
 ClosureDemComparison compare_closure_with_dem(const std::string& cg_fields, const std::string& dem_scenario,
                                               const std::string& container, const HoldSettings& material,
-                                              const std::string& folder);
+                                              const std::string& folder,
+                                              const std::optional<ClosureFitSettings>& fit = std::nullopt);
 
 }  // namespace grainscale::studies

@@ -137,10 +137,14 @@ HoldStudyResults run_hold_study(const HoldStudySettings& s, const StudyOptions& 
     folder.log("closure vs DEM: " + v.cg_fields + " (scenario " + v.dem_scenario + "), friction of " + v.material_from);
     std::filesystem::create_directories(folder.path("closure_vs_dem"));
     res.validation = compare_closure_with_dem(v.cg_fields, v.dem_scenario, v.container, it->settings,
-                                              folder.path("closure_vs_dem"));
+                                              folder.path("closure_vs_dem"), v.fit);
     folder.log("closure vs DEM done in " + num(wall_seconds_now() - tv, 3) + " s: surface angle RMS error " +
                num(res.validation->angle_rms_error_deg, 3) + " deg, surface speed RMS error " +
-               num(res.validation->speed_rms_error, 3) + " m/s");
+               num(res.validation->speed_rms_error, 3) + " m/s" +
+               (res.validation->fit ? "; fitted closure on the test frames: " +
+                                          num(res.validation->fit->fitted_test.angle_rms_deg, 3) + " deg, " +
+                                          num(res.validation->fit->fitted_test.speed_rms, 3) + " m/s"
+                                    : std::string()));
   }
   res.wall_seconds = wall_seconds_now() - t0;
   report_path = write_hold_study_report(s, res, folder.directory());

@@ -83,6 +83,14 @@ HoldStudySettings load_hold_study_settings(const std::string& file) {
       for (const auto& sc : s.scenarios) names += (names.empty() ? "" : ", ") + sc.settings.name;
       throw InputError(v->where("material_from") + ": '" + val.material_from + "' is not a listed scenario (" + names + ")");
     }
+    if (auto f = v->optional_map("fit")) {
+      ClosureFitSettings fs;
+      fs.train_until = f->number("train_until", Range::positive());
+      fs.parameters = f->choices_or_empty(
+          "parameters", {"internal_friction_deg", "basal_friction_deg", "flowing_layer_diameters", "delta_mu"});
+      f->finish();
+      val.fit = fs;
+    }
     v->finish();
     s.validate = val;
   }

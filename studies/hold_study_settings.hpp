@@ -18,11 +18,16 @@
 //     dem_scenario: platform_quick/scenario.yaml       that DEM run's scenario (box, motion, pivot)
 //     container: box                                   its moving wall (default: the first moving one)
 //     material_from: platform_box                      the listed scenario whose bed friction is used
+//     fit: {train_until: 16}                           optional: calibrate that friction on the frames
+//                                                      t <= 16 s, judge it on the later ones
+//                                                      (closure_friction_fit.hpp; `parameters: [...]`
+//                                                      default internal, basal, flowing_layer_diameters)
 //   output: {directory: ../runs/hold_prediction}
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "studies/closure_friction_fit.hpp"
 #include "studies/hold_settings.hpp"
 
 namespace grainscale::studies {
@@ -41,6 +46,7 @@ struct HoldStudyValidation {
   std::string dem_scenario;  // that run's DEM scenario (container, motion, pivot)
   std::string container;     // its wall whose frame the fields are in (empty: the first moving wall)
   std::string material_from; // name of a listed scenario whose bed friction the closure uses
+  std::optional<ClosureFitSettings> fit;
 };
 
 struct HoldStudySettings {

@@ -82,3 +82,81 @@ TEST_CASE("Closure vs DEM: bad input names the file", "[study][hold][closure][in
   CHECK_THROWS_WITH(studies::compare_closure_with_dem(dir / "fields.h5", kScenario, "lid", stiff_material(), dir / "out"),
                     Catch::Contains("no moving wall named 'lid'"));
 }
+
+// A twin experiment for the friction fit (closure_friction_fit.hpp): "DEM" fields made by the closure
+// itself with a known friction (its bed heights per frame, its surface speed in every grain cell), fed
+// back with a wrong a-priori friction. The fit must find the known values from the early frames, and
+// the fitted closure must then agree on the later frames it was not fitted to, where the a-priori
+// one does not.
+TEST_CASE("Closure friction fit: a twin experiment recovers the friction that made the data",
+          "[study][hold][closure][fit]") {
+  TempDir dir("closure_fit_twin");
+  std::vector<double> times;
+  for (int j = 2; j <= 64; ++j) times.push_back(0.1 * j);  // 0.2 to 6.4 s: the platform's swing both ways
+  studies::HoldSettings truth = stiff_material();
+  truth.name = "truth";
+  truth.friction.internal_deg = 17, truth.friction.basal_deg = 8;  // yields below the 24° tilt, side walls included
+  truth.friction.layer_depth = 3 * truth.friction.grain_diameter;
+  // The truth's closure on a flat 30 mm bed (frames at rest: the bed as it was poured).
+  grainscale::testing::write_planar_bed_fields(dir / "flat.h5", times, 0.03, 0, 0);
+  const studies::ClosureDemComparison made =
+      studies::compare_closure_with_dem(dir / "flat.h5", kScenario, "box", truth, dir / "made");
+  const std::size_t skipped = times.size() - made.times.size();  // frames before the last at rest
+  std::vector<std::vector<double>> h(times.size(), std::vector<double>(30, 0.03));
+  std::vector<double> u(times.size(), 0.0);
+  double peak = 0;
+  for (std::size_t j = 0; j < made.times.size(); ++j) {
+    h[skipped + j] = made.closure_depth[j];
+    u[skipped + j] = made.closure_speed[j];
+    peak = std::max(peak, std::fabs(u[skipped + j]));
+  }
+  REQUIRE(peak > 0.05);  // the truth's bed flows: the fit has something to see
+  grainscale::testing::write_bed_fields(dir / "twin.h5", times, h, u, 40);
+
+  studies::HoldSettings a_priori = truth;
+  a_priori.name = "a_priori";
+  a_priori.friction.internal_deg = 23, a_priori.friction.basal_deg = 13;
+  studies::ClosureFitSettings fs;
+  fs.train_until = 3.4;  // the first swing and hold train; the swing back tests
+  const studies::ClosureDemComparison c =
+      studies::compare_closure_with_dem(dir / "twin.h5", kScenario, "box", a_priori, dir / "out", fs);
+  REQUIRE(c.fit);
+  const studies::ClosureFit& f = *c.fit;
+  REQUIRE(f.names.size() == 3);
+  INFO("fitted phi " << f.fitted[0] << ", delta " << f.fitted[1] << ", l/d " << f.fitted[2] << "; J train "
+                     << f.fitted_train.objective << ", test " << f.fitted_test.objective << ", a priori test "
+                     << f.a_priori_test.objective);
+  // The truth reproduces its own data exactly, so the data are the closure's measures.
+  CHECK(made.closure_angle_deg.size() == c.times.size());
+  CHECK(f.a_priori_test.objective > 1);  // the wrong friction fails the bar on the test frames
+  CHECK_FALSE(f.a_priori_test.agrees);
+  CHECK(f.fitted_train.objective < 1e-3);
+  CHECK(f.fitted[0] == Approx(17).margin(0.3));
+  CHECK(f.fitted[1] == Approx(8).margin(0.3));
+  CHECK(f.fitted[2] == Approx(3).epsilon(0.05));
+  CHECK(f.fitted_test.agrees);
+  CHECK(f.fitted_test.objective < 1e-2);
+  const double truth_values[3] = {17, 8, 3};
+  for (std::size_t j = 0; j < 3; ++j) {  // the sensitivity ranges hold the truth and are not points
+    INFO(f.names[j] << ": " << f.lower[j] << " to " << f.upper[j]);
+    CHECK(f.lower[j] < truth_values[j]);
+    CHECK(f.upper[j] > truth_values[j]);
+  }
+  CHECK(f.angle_deg.size() == c.times.size());
+}
+
+TEST_CASE("Closure friction fit: a split without 3 frames on each side, or an unknown parameter, is an input error",
+          "[study][hold][closure][fit][input]") {
+  TempDir dir("closure_fit_bad");
+  std::vector<double> times;
+  for (int j = 2; j <= 20; ++j) times.push_back(0.1 * j);
+  grainscale::testing::write_planar_bed_fields(dir / "fields.h5", times, 0.03, 0, 0);
+  studies::ClosureFitSettings fs;
+  fs.train_until = 1.9;  // two test frames left
+  CHECK_THROWS_WITH(studies::compare_closure_with_dem(dir / "fields.h5", kScenario, "box", stiff_material(), dir / "out", fs),
+                    Catch::Contains("fields.h5") && Catch::Contains("train_until") && Catch::Contains("at least 3"));
+  fs.train_until = 1.0;
+  fs.parameters = {"angle_of_repose"};
+  CHECK_THROWS_WITH(studies::compare_closure_with_dem(dir / "fields.h5", kScenario, "box", stiff_material(), dir / "out", fs),
+                    Catch::Contains("'angle_of_repose'") && Catch::Contains("basal_friction_deg"));
+}

@@ -146,6 +146,33 @@ TEST_CASE("A hold study with validate reports the closure against the coarse-gra
   CHECK(fs::exists(dir / "out/inputs/scenario.yaml"));
 }
 
+TEST_CASE("A hold study with a fit reports the calibrated closure on its held-out frames", "[study][hold][closure][fit]") {
+  TempDir dir("hold_study_fit");
+  grainscale::testing::write_planar_bed_fields(dir / "fields.h5", {0.3, 0.6, 0.9, 1.2, 1.5, 1.8, 2.1}, 0.03, 0.05, 0.0);
+  write_text(dir / "still.yaml", box_yaml("still", 2));
+  write_text(dir / "study.yaml", "kind: hold\nname: fitted\nscenarios:\n  - {file: still.yaml, end: 8}\n"
+                                 "validate: {cg_fields: fields.h5, dem_scenario: " + std::string(GRAINSCALE_SOURCE_DIR) +
+                                     "/studies/platform_quick/scenario.yaml, material_from: still, fit: {train_until: 1.0, "
+                                     "parameters: [basal_friction_deg]}}\n"
+                                 "output: {directory: out}\n");
+  std::string report_path;
+  const studies::HoldStudyResults r =
+      studies::run_hold_study(studies::load_hold_study_settings(dir / "study.yaml"), studies::StudyOptions{}, report_path);
+  REQUIRE(r.validation);
+  REQUIRE(r.validation->fit);
+  CHECK(r.validation->fit->names == std::vector<std::string>{"basal_friction_deg"});
+  CHECK(r.validation->fit->fitted_train.frames == 3);  // 0.3, 0.6, 0.9 s
+  CHECK(r.validation->fit->fitted_test.frames == 4);
+  const std::string report = slurp(report_path);
+  for (const char* text : {"### The closure's bed friction calibrated on the early frames", "| basal_friction_deg |",
+                           "| fitted, test (held out) | 4 |", "Verdict on the held-out frames"}) {
+    INFO(text);
+    CHECK(report.find(text) != std::string::npos);
+  }
+  CHECK(slurp(dir / "out/closure_vs_dem/comparison.csv").find("fitted_surface_angle_deg,fitted_surface_speed_m_s,block") !=
+        std::string::npos);
+}
+
 TEST_CASE("The report's coverage pair means 8.7 times the visible chaff at the ends", "[study][hold]") {
   // coverage = 1 - exp(-k m): m_end / m_centre = ln(1 - 0.6) / ln(1 - 0.1), whatever k is.
   CHECK(studies::report_visible_chaff_ratio() == Approx(8.6967).epsilon(1e-4));
@@ -175,6 +202,12 @@ TEST_CASE("Bad hold study files name the file and the key", "[study][hold][input
              "validate.material_from");
   fails_with("", "validate: {cg_fields: none.h5, dem_scenario: still.yaml, material_from: still}\n", "study.yaml",
              "validate.cg_fields");
+  fails_with("", "validate: {cg_fields: still.yaml, dem_scenario: still.yaml, material_from: still, fit: {train_until: -1}}\n",
+             "study.yaml", "validate.fit.train_until");
+  fails_with("", "validate: {cg_fields: still.yaml, dem_scenario: still.yaml, material_from: still, "
+             "fit: {train_until: 5, parameters: [tilt]}}\n", "study.yaml", "validate.fit.parameters");
+  fails_with("", "validate: {cg_fields: still.yaml, dem_scenario: still.yaml, material_from: still, fit: {until: 5}}\n",
+             "study.yaml", "validate.fit");
   // An error inside a listed scenario names that scenario's file.
   write_text(dir / "broken.yaml", box_yaml("broken", 30) + "typo_key: 1\n");
   fails_with("  - {file: broken.yaml}\n", "", "broken.yaml", "typo_key");
