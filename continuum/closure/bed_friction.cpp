@@ -25,6 +25,11 @@ double BedFriction::mu_static(double h) const {
   return mu_bed(*this, h) + side_walls.mu(active_depth(h));
 }
 
+EarthPressure BedFriction::earth_pressure() const {
+  return savage_hutter_pressure ? EarthPressure::savage_hutter(internal_deg * kDeg, basal_deg * kDeg)
+                                : EarthPressure::hydrostatic();
+}
+
 double BedFriction::surface_weight(double h) const {
   if (!std::isfinite(layer_depth) || h <= 0) return 0;
   return -std::expm1(-h / layer_depth);
@@ -59,6 +64,7 @@ BedFriction bed_friction_from_yaml(YamlMap m) {
     f.layer_depth = f.grain_diameter * m.number_or("flowing_layer_diameters", 10, Range{0, 1e6, true, false});
   }
   f.side_walls.friction = m.number_or("wall_friction", std::tan(f.basal_deg * kDeg), Range::closed(0, 2));
+  f.savage_hutter_pressure = m.choice_or("earth_pressure", "hydrostatic", {"hydrostatic", "savage_hutter"}) == "savage_hutter";
   m.finish();
   return f;
 }

@@ -24,6 +24,7 @@
 #include <cmath>
 #include <limits>
 
+#include "continuum/closure/earth_pressure.hpp"
 #include "continuum/closure/side_wall_friction.hpp"
 
 #include "dem/yaml_map.hpp"
@@ -40,6 +41,11 @@ struct BedFriction {
   /// Savage–Hutter, a = h, μ_s = min(tan δ, tan φ)).
   double layer_depth = 0.04;
   SideWallFriction side_walls;  // none unless a width is given
+  /// The earth pressure of (S2): hydrostatic (K = 1) unless Savage–Hutter's (K1) is asked for, from
+  /// φ and δ above (earth_pressure.hpp).
+  bool savage_hutter_pressure = false;
+
+  EarthPressure earth_pressure() const;
 
   /// (F2) plus the side walls' μ_w a(h)/W (W1).
   double mu_static(double h) const;
@@ -52,7 +58,8 @@ struct BedFriction {
 };
 
 /// Reads `{internal_friction_deg, basal_friction_deg, delta_mu, i0, grain_diameter,
-/// flowing_layer_diameters | flowing_layer_depth, wall_friction}`; every key optional (defaults above,
+/// flowing_layer_diameters | flowing_layer_depth, wall_friction, earth_pressure: hydrostatic |
+/// savage_hutter}`; every key optional (defaults above,
 /// flowing layer 10 grain diameters, wall_friction μ_w in [0, 2] defaults to tan δ: side walls of the
 /// floor's material). The side walls' width is the container's, set by the caller (none here).
 /// Throws InputError naming file, key and range.

@@ -21,6 +21,7 @@ ShallowGranularFlow::ShallowGranularFlow(SectionSettings settings, ContainerGrav
   u_.assign(s_.nx + 1, 0.0);
   q_.assign(s_.nx + 1, 0.0);
   a_.resize(s_.nx);
+  pressure_ = s_.friction.earth_pressure();
 }
 
 double ShallowGranularFlow::volume() const {
@@ -63,6 +64,7 @@ void ShallowGranularFlow::step(double dt) {
   std::vector<double>& u = u_;
   // Momentum (S2) at interior faces, from the old u (Jacobi: a copy of the neighbours is needed).
   std::vector<double> un(u);
+  const bool sh = s_.friction.savage_hutter_pressure;
   for (int f = 1; f < n; ++f) {
     double gt = 0, gn = 0;
     gravity_.components(st, f * dx_, gt, gn);
@@ -83,7 +85,17 @@ void ShallowGranularFlow::step(double dt) {
       if (qb < 0) adv += qb / abar * (u[f + 1] - u[f]) / dx_;
     }
     const double slope = (h_[f] - h_[f - 1]) / dx_;
-    const double drive = gt - gn * slope - adv;
+    // Earth pressure (earth_pressure.hpp): K = 1, or Savage–Hutter's. A moving face takes K from the
+    // strain rate (central difference of the old speeds: active where the bed extends, passive where
+    // it is compressed). A face at rest can take any K between the active and the passive limit (a
+    // static bed's earth pressure is indeterminate there), so it takes the one nearest to holding it:
+    // it stays at rest if any admissible K holds it, and starts at the limit that resists most.
+    double K = 1.0;
+    if (sh && slope != 0) {
+      K = u[f] != 0 ? pressure_.at(u[f + 1] - u[f - 1])
+                    : std::clamp((gt - adv) / (gn * slope), pressure_.active, pressure_.passive);
+    }
+    const double drive = gt - K * gn * slope - adv;
     const double hf = 0.5 * (h_[f - 1] + h_[f]);
     const double af = s_.friction.active_depth(hf);
     // Normal load (S3): on the floor for a plug, on the free surface for a surface layer.

@@ -11,8 +11,8 @@
 // equations, per unit width, are
 //
 //   ∂h/∂t + ∂(a u_s)/∂x = 0                                                                  (S1)
-//   ∂u_s/∂t + u_s ∂u_s/∂x = g_t − g_n ∂h/∂x − N μ(h, I) sgn(u_s)        (moving)             (S2)
-//   u_s = 0  while  |g_t − g_n ∂h/∂x| ≤ N μ_s(h)                        (Coulomb yield)
+//   ∂u_s/∂t + u_s ∂u_s/∂x = g_t − K g_n ∂h/∂x − N μ(h, I) sgn(u_s)      (moving)             (S2)
+//   u_s = 0  while  |g_t − K g_n ∂h/∂x| ≤ N μ_s(h)                      (Coulomb yield)
 //   N = g_n + (1 − e^{−h/ℓ}) g_t ∂h/∂x                                  (normal load)        (S3)
 //
 // (S3): a plug (h ≪ ℓ) presses on the floor with g_n, as in SH; a surface layer (h ≫ ℓ) flows along
@@ -23,8 +23,9 @@
 // and load is dropped (it changes speeds by cos β, not the threshold).
 // g_t, g_n: gravity along and into the floor in the container frame, including the lever-arm
 // accelerations (container_gravity.hpp); μ from bed_friction.hpp, including the side walls' μ_w a/W
-// for a channel of width W (side_wall_friction.hpp, (W1); none without a width); the earth-pressure coefficient is
-// 1 (hydrostatic), the shape factor of ∫u² dz is taken as 1. For ℓ = ∞, (S1)–(S2) are the SH
+// for a channel of width W (side_wall_friction.hpp, (W1); none without a width); the earth-pressure
+// coefficient K is 1 (hydrostatic) unless Savage–Hutter's active/passive K is asked for
+// (earth_pressure.hpp, (K1): `earth_pressure: savage_hutter`); the shape factor of ∫u² dz is taken as 1. For ℓ = ∞, (S1)–(S2) are the SH
 // equations (mass and velocity form) on a flat floor. For h ≫ ℓ they are a shallow layer of
 // thickness ℓ flowing over, and exchanging mass with, static grain (a BCRE-type picture, Bouchaud et
 // al. 1994): erosion and deposition are the change of h.
@@ -92,6 +93,7 @@ class ShallowGranularFlow {
   double t_;
   long steps_ = 0;
   std::vector<double> h_, u_, q_, a_;
+  EarthPressure pressure_;  // K's limits (1, 1 unless Savage–Hutter's)
 };
 
 }  // namespace grainscale::continuum::closure

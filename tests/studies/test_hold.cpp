@@ -192,5 +192,10 @@ TEST_CASE("hold: side walls from the container's width and the material's wall f
   fails_with(std::string(w).replace(w.find("width: 0.03"), 11, "width: 0"), "width", "(0, 10000]");
   fails_with(std::string(w).replace(w.find("wall_friction: 0.4"), 18, "wall_friction: 2.5"), "wall_friction", "[0, 2]");
   fails_with(std::string(w).replace(w.find("wall_friction: 0.4"), 18, "wall_friction: -0.1"), "wall_friction", "[0, 2]");
+  // The earth pressure (earth_pressure.hpp): hydrostatic unless Savage-Hutter's is named.
+  CHECK_FALSE(a.friction.savage_hutter_pressure);
+  w.replace(w.find("wall_friction: 0.4"), 18, "wall_friction: 0.4, earth_pressure: savage_hutter");
+  CHECK(settings_from(dir, "sh.yaml", w).friction.savage_hutter_pressure);
+  fails_with(std::string(w).replace(w.find("savage_hutter"), 13, "rankine"), "earth_pressure", "savage_hutter");
   std::filesystem::remove_all(dir);
 }
