@@ -141,7 +141,8 @@ void add_fit_series(LinePlot& lp, const ClosureFit& fit, const std::vector<doubl
 
 ClosureDemComparison compare_closure_with_dem(const std::string& cg_fields, const std::string& dem_scenario,
                                               const std::string& container, const HoldSettings& material,
-                                              const std::string& folder, const std::optional<ClosureFitSettings>& fit) {
+                                              const std::string& folder, const std::optional<ClosureFitSettings>& fit,
+                                              double measure_depth) {
   ClosureDemComparison out;
   out.cg_fields = cg_fields, out.dem_scenario = dem_scenario, out.material_from = material.name;
   const DemFields dem = read_dem_fields(cg_fields);
@@ -212,7 +213,9 @@ ClosureDemComparison compare_closure_with_dem(const std::string& cg_fields, cons
                      "' is unknown");
   }
 
-  const double ell = friction.layer_depth;
+  // The depth of the surface-speed measure: as given, else the closure's flowing layer.
+  const double ell = measure_depth > 0 ? measure_depth : friction.layer_depth;
+  out.measure_depth = ell;
   // The DEM measures per frame: slope and surface speed (mass-weighted u_x within ℓ of each column's surface).
   for (std::size_t f = first; f < dem.frames.size(); ++f) {
     const DemFrame& fr = dem.frames[f];

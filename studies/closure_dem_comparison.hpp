@@ -7,11 +7,12 @@
 // `surface_height` field) gives the surface's slope in the box frame by least squares over the columns
 // that hold grain; with the box's tilt θ(t) from the DEM scenario's motion that is the free-surface
 // angle to the horizontal, β_h = θ + atan(dh/dx). The surface speed is the mass-weighted mean of u_x
-// over the cells within one flowing-layer depth of each column's surface, averaged over the columns.
+// over the cells within `measure_depth` (default: the closure's flowing-layer depth ℓ) of each
+// column's surface, averaged over the columns.
 // The closure side: ShallowGranularFlow (continuum/closure/) on the same box, pivot and motion, filled
 // to the DEM's mean surface height at the first compared frame, with the bed friction of a listed hold
 // scenario; the same two measures from its h(x) and u_s(x) (the surface speed is the mean over the
-// flowing layer of u_s e^{-ζ/ℓ}, as the DEM's). Errors: RMS and max over the frames.
+// same depth of u_s e^{-ζ/ℓ}, as the DEM's). Errors: RMS and max over the frames.
 // The DEM box has side walls: the closure is run with their friction μ_w a/W (side_wall_friction.hpp,
 // Jop, Forterre & Pouliquen 2005), W the box's width across the section (the cg grid's y extent) and
 // μ_w the DEM's sliding friction of the grain on the box's material; and, for comparison, without
@@ -31,6 +32,7 @@ namespace grainscale::studies {
 struct ClosureDemComparison {
   std::string cg_fields, dem_scenario, material_from;
   double box_length = 0, fill_height = 0, flowing_layer = 0;  // [m]
+  double measure_depth = 0;  // the surface speed is averaged over min(this, h) below the surface [m]
   std::vector<double> times;                            // compared frames [s]
   std::vector<double> tilt_deg;                         // the box's tilt [deg]
   std::vector<double> dem_angle_deg, closure_angle_deg; // free-surface angle to the horizontal [deg]
@@ -54,6 +56,7 @@ struct ClosureDemComparison {
 ClosureDemComparison compare_closure_with_dem(const std::string& cg_fields, const std::string& dem_scenario,
                                               const std::string& container, const HoldSettings& material,
                                               const std::string& folder,
-                                              const std::optional<ClosureFitSettings>& fit = std::nullopt);
+                                              const std::optional<ClosureFitSettings>& fit = std::nullopt,
+                                              double measure_depth = NAN);
 
 }  // namespace grainscale::studies

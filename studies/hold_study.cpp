@@ -137,7 +137,7 @@ HoldStudyResults run_hold_study(const HoldStudySettings& s, const StudyOptions& 
     folder.log("closure vs DEM: " + v.cg_fields + " (scenario " + v.dem_scenario + "), friction of " + v.material_from);
     std::filesystem::create_directories(folder.path("closure_vs_dem"));
     res.validation = compare_closure_with_dem(v.cg_fields, v.dem_scenario, v.container, it->settings,
-                                              folder.path("closure_vs_dem"), v.fit);
+                                              folder.path("closure_vs_dem"), v.fit, v.measure_depth);
     folder.log("closure vs DEM done in " + num(wall_seconds_now() - tv, 3) + " s: surface angle RMS error " +
                num(res.validation->angle_rms_error_deg, 3) + " deg, surface speed RMS error " +
                num(res.validation->speed_rms_error, 3) + " m/s" +

@@ -206,7 +206,8 @@ std::string write_hold_study_report(const HoldStudySettings& s, const HoldStudyR
       << g(1000 * v.side_wall_width, 3) << " mm and mu_w = " << g(v.side_wall_friction, 3) << " (the DEM's grain-wall "
       << "sliding friction; Jop, Forterre & Pouliquen 2005); the 2-D closure without side walls beside it. Measures "
       << "per frame: the free-surface angle to the horizontal (tilt + least-squares slope of h(x) in the box frame) "
-      << "and the surface speed along the box (closure_dem_comparison.hpp).\n\n"
+      << "and the surface speed along the box, averaged over the top " << g(1000 * v.measure_depth, 3)
+      << " mm of the bed (closure_dem_comparison.hpp).\n\n"
       << "| t (s) | tilt (deg) | surface angle DEM (deg) | closure (deg) | 2-D closure (deg) | surface speed DEM (m/s) | "
          "closure (m/s) | 2-D closure (m/s) |\n"
       << "|---|---|---|---|---|---|---|---|\n";

@@ -83,6 +83,7 @@ HoldStudySettings load_hold_study_settings(const std::string& file) {
       for (const auto& sc : s.scenarios) names += (names.empty() ? "" : ", ") + sc.settings.name;
       throw InputError(v->where("material_from") + ": '" + val.material_from + "' is not a listed scenario (" + names + ")");
     }
+    if (v->has("measure_depth")) val.measure_depth = v->number("measure_depth", Range{0, 1, true, false});
     if (auto f = v->optional_map("fit")) {
       ClosureFitSettings fs;
       fs.train_until = f->number("train_until", Range::positive());

@@ -18,6 +18,8 @@
 //     dem_scenario: platform_quick/scenario.yaml       that DEM run's scenario (box, motion, pivot)
 //     container: box                                   its moving wall (default: the first moving one)
 //     material_from: platform_box                      the listed scenario whose bed friction is used
+//     measure_depth: 0.02                              optional: the surface speed's depth [m] (default:
+//                                                      the closure's flowing layer)
 //     fit: {train_until: 16}                           optional: calibrate that friction on the frames
 //                                                      t <= 16 s, judge it on the later ones
 //                                                      (closure_friction_fit.hpp; `parameters: [...]`
@@ -46,6 +48,7 @@ struct HoldStudyValidation {
   std::string dem_scenario;  // that run's DEM scenario (container, motion, pivot)
   std::string container;     // its wall whose frame the fields are in (empty: the first moving wall)
   std::string material_from; // name of a listed scenario whose bed friction the closure uses
+  double measure_depth = NAN;  // [m]; NaN: the closure's flowing layer
   std::optional<ClosureFitSettings> fit;
 };
 

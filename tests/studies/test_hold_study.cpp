@@ -152,7 +152,7 @@ TEST_CASE("A hold study with a fit reports the calibrated closure on its held-ou
   write_text(dir / "still.yaml", box_yaml("still", 2));
   write_text(dir / "study.yaml", "kind: hold\nname: fitted\nscenarios:\n  - {file: still.yaml, end: 8}\n"
                                  "validate: {cg_fields: fields.h5, dem_scenario: " + std::string(GRAINSCALE_SOURCE_DIR) +
-                                     "/studies/platform_quick/scenario.yaml, material_from: still, fit: {train_until: 1.0, "
+                                     "/studies/platform_quick/scenario.yaml, material_from: still, measure_depth: 0.02, fit: {train_until: 1.0, "
                                      "parameters: [basal_friction_deg]}}\n"
                                  "output: {directory: out}\n");
   std::string report_path;
@@ -160,6 +160,7 @@ TEST_CASE("A hold study with a fit reports the calibrated closure on its held-ou
       studies::run_hold_study(studies::load_hold_study_settings(dir / "study.yaml"), studies::StudyOptions{}, report_path);
   REQUIRE(r.validation);
   REQUIRE(r.validation->fit);
+  CHECK(r.validation->measure_depth == 0.02);
   CHECK(r.validation->fit->names == std::vector<std::string>{"basal_friction_deg"});
   CHECK(r.validation->fit->fitted_train.frames == 3);  // 0.3, 0.6, 0.9 s
   CHECK(r.validation->fit->fitted_test.frames == 4);
@@ -208,6 +209,8 @@ TEST_CASE("Bad hold study files name the file and the key", "[study][hold][input
              "fit: {train_until: 5, parameters: [tilt]}}\n", "study.yaml", "validate.fit.parameters");
   fails_with("", "validate: {cg_fields: still.yaml, dem_scenario: still.yaml, material_from: still, fit: {until: 5}}\n",
              "study.yaml", "validate.fit");
+  fails_with("", "validate: {cg_fields: still.yaml, dem_scenario: still.yaml, material_from: still, measure_depth: 0}\n",
+             "study.yaml", "validate.measure_depth");
   // An error inside a listed scenario names that scenario's file.
   write_text(dir / "broken.yaml", box_yaml("broken", 30) + "typo_key: 1\n");
   fails_with("  - {file: broken.yaml}\n", "", "broken.yaml", "typo_key");
