@@ -201,8 +201,10 @@ std::string write_hold_study_report(const HoldStudySettings& s, const HoldStudyR
     const ClosureDemComparison& v = *r.validation;
     m << "The flow closure against the coarse-grained DEM flow of `" << v.dem_scenario << "` (fields `" << v.cg_fields
       << "`): the same box (" << g(v.box_length, 3) << " m), pivot and motion, filled to the DEM's mean surface height ("
-      << g(1000 * v.fill_height, 3) << " mm), with the bed friction of `" << v.material_from << "`, a flowing "
-      << "layer of " << g(1000 * v.flowing_layer, 3) << " mm and the friction of the box's side walls, mu_w a/W with W = "
+      << g(1000 * v.fill_height, 3) << " mm), with the bed friction of `" << v.material_from << "`, "
+      << (std::isfinite(v.flowing_layer) ? "a flowing layer of " + g(1000 * v.flowing_layer, 3) + " mm"
+                                         : std::string("moving as a plug (the whole depth)"))
+      << " and the friction of the box's side walls, mu_w a/W with W = "
       << g(1000 * v.side_wall_width, 3) << " mm and mu_w = " << g(v.side_wall_friction, 3) << " (the DEM's grain-wall "
       << "sliding friction; Jop, Forterre & Pouliquen 2005); the 2-D closure without side walls beside it. Measures "
       << "per frame: the free-surface angle to the horizontal (tilt + least-squares slope of h(x) in the box frame) "

@@ -58,7 +58,14 @@ BedFriction bed_friction_from_yaml(YamlMap m) {
   if (m.has("flowing_layer_depth") && m.has("flowing_layer_diameters")) {
     throw InputError(m.where("flowing_layer_depth") + ": give flowing_layer_depth or flowing_layer_diameters, not both");
   }
-  if (m.has("flowing_layer_depth")) {
+  const bool plug = m.boolean_or("plug", false);
+  if (plug && (m.has("flowing_layer_depth") || m.has("flowing_layer_diameters"))) {
+    throw InputError(m.where("plug") + ": a plug (the whole depth moves, classical Savage-Hutter) has no flowing layer; "
+                     "drop flowing_layer_depth / flowing_layer_diameters or plug");
+  }
+  if (plug) {
+    f.layer_depth = std::numeric_limits<double>::infinity();
+  } else if (m.has("flowing_layer_depth")) {
     f.layer_depth = m.number("flowing_layer_depth", Range{0, 1e3, true, false});
   } else {
     f.layer_depth = f.grain_diameter * m.number_or("flowing_layer_diameters", 10, Range{0, 1e6, true, false});

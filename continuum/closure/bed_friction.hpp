@@ -58,8 +58,8 @@ struct BedFriction {
 };
 
 /// Reads `{internal_friction_deg, basal_friction_deg, delta_mu, i0, grain_diameter,
-/// flowing_layer_diameters | flowing_layer_depth, wall_friction, earth_pressure: hydrostatic |
-/// savage_hutter}`; every key optional (defaults above,
+/// flowing_layer_diameters | flowing_layer_depth | plug: true, wall_friction, earth_pressure:
+/// hydrostatic | savage_hutter}`; every key optional (defaults above,
 /// flowing layer 10 grain diameters, wall_friction μ_w in [0, 2] defaults to tan δ: side walls of the
 /// floor's material). The side walls' width is the container's, set by the caller (none here).
 /// Throws InputError naming file, key and range.

@@ -197,5 +197,10 @@ TEST_CASE("hold: side walls from the container's width and the material's wall f
   w.replace(w.find("wall_friction: 0.4"), 18, "wall_friction: 0.4, earth_pressure: savage_hutter");
   CHECK(settings_from(dir, "sh.yaml", w).friction.savage_hutter_pressure);
   fails_with(std::string(w).replace(w.find("savage_hutter"), 13, "rankine"), "earth_pressure", "savage_hutter");
+  // A plug: no flowing layer (ℓ = ∞), and not both.
+  std::string plug = std::string(w).replace(w.find("flowing_layer_diameters: 3"), 26, "plug: true");
+  CHECK(std::isinf(settings_from(dir, "plug.yaml", plug).friction.layer_depth));
+  fails_with(std::string(w).replace(w.find("flowing_layer_diameters: 3"), 26, "flowing_layer_diameters: 3, plug: true"), "plug",
+             "no flowing layer");
   std::filesystem::remove_all(dir);
 }
