@@ -202,19 +202,31 @@ ClosureFit fit_closure_friction(const ClosureFitSettings& settings, const std::s
   // 3. Sensitivity: each parameter alone (the others at the fit) over the range where the training
   // objective rises by at most kRangeRise: the errors grow by at most half the bar in quadrature.
   fit.lower.resize(np), fit.upper.resize(np);
+  // The edge is bracketed by steps that double from p.scan, then bisected to p.scan.
   for (std::size_t j = 0; j < np; ++j) {
     const Parameter& p = *pr.params[j];
     for (int side = -1; side <= 1; side += 2) {
       std::vector<double> x = best;
-      double edge = best[j];
-      while (true) {
-        const double next = edge + side * p.scan;
-        if (next < p.lo - 1e-12 || next > p.hi + 1e-12) break;
-        x[j] = next;
-        if (pr.objective(x) > jbest + kRangeRise) break;
-        edge = next;
+      auto within = [&](double v) {
+        x[j] = v;
+        return pr.objective(x) <= jbest + kRangeRise;
+      };
+      const double bound = side < 0 ? p.lo : p.hi;
+      double good = best[j], bad = NAN;
+      for (double step = p.scan;; step *= 2) {
+        const double next = side < 0 ? std::max(good - step, bound) : std::min(good + step, bound);
+        if (!within(next)) {
+          bad = next;
+          break;
+        }
+        good = next;
+        if (next == bound) break;
       }
-      (side < 0 ? fit.lower[j] : fit.upper[j]) = shown(p, edge);
+      while (std::isfinite(bad) && std::fabs(bad - good) > p.scan) {
+        const double mid = 0.5 * (good + bad);
+        (within(mid) ? good : bad) = mid;
+      }
+      (side < 0 ? fit.lower[j] : fit.upper[j]) = shown(p, good);
     }
   }
 
