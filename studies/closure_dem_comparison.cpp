@@ -302,15 +302,12 @@ ClosureDemComparison compare_closure_with_dem(const std::string& cg_fields, cons
     out.fit = fit_closure_friction(*fit, cg_fields, out.times, out.dem_angle_deg, out.dem_speed, walled, closure);
   }
   {
-    double s = 0;
-    int n = 0;
-    for (double v : out.dem_speed)
-      if (std::isfinite(v)) s += v * v, ++n;
-    out.dem_speed_rms = n ? std::sqrt(s / n) : NAN;
+    // The bar over all frames: the same definition as the fit's blocks (closure_friction_fit.hpp).
+    const BlockErrors all =
+        block_errors(out.dem_angle_deg, out.dem_speed, out.closure_angle_deg, out.closure_speed, 0, out.times.size());
+    out.dem_speed_rms = all.dem_speed_rms;
+    out.agrees = all.agrees;
   }
-
-  out.agrees = out.angle_rms_error_deg <= kAngleTolerance &&
-               out.speed_rms_error <= kSpeedTolerance * std::max(out.dem_speed_rms, kSpeedFloor);
 
   fs::create_directories(folder);
   {
