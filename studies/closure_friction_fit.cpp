@@ -40,6 +40,8 @@ const std::vector<Parameter>& parameter_table() {
        [](BedFriction& f, double v) { f.layer_depth = f.grain_diameter * std::pow(10.0, v); }},
       {"delta_mu", 0, 2, {0, 0.1, 0.26, 0.5}, 0.05, 0.005,
        [](const BedFriction& f) { return f.delta_mu; }, [](BedFriction& f, double v) { f.delta_mu = v; }},
+      {"start_excess_deg", 0, 15, {0, 2, 4, 7}, 1.0, 0.05,
+       [](const BedFriction& f) { return f.start_excess_deg; }, [](BedFriction& f, double v) { f.start_excess_deg = v; }},
   };
   return table;
 }
@@ -127,7 +129,7 @@ ClosureFit fit_closure_friction(const ClosureFitSettings& settings, const std::s
     const auto it = std::find_if(table.begin(), table.end(), [&](const Parameter& p) { return n == p.name; });
     if (it == table.end()) {
       throw InputError(where + ": fit parameter '" + n + "' is not one of internal_friction_deg, basal_friction_deg, "
-                       "flowing_layer_diameters, delta_mu");
+                       "flowing_layer_diameters, delta_mu, start_excess_deg");
     }
     if (std::find(pr.params.begin(), pr.params.end(), &*it) != pr.params.end()) {
       throw InputError(where + ": fit parameter '" + n + "' is listed twice");

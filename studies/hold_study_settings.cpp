@@ -88,7 +88,7 @@ HoldStudySettings load_hold_study_settings(const std::string& file) {
       ClosureFitSettings fs;
       fs.train_until = f->number("train_until", Range::positive());
       fs.parameters = f->choices_or_empty(
-          "parameters", {"internal_friction_deg", "basal_friction_deg", "flowing_layer_diameters", "delta_mu"});
+          "parameters", {"internal_friction_deg", "basal_friction_deg", "flowing_layer_diameters", "delta_mu", "start_excess_deg"});
       f->finish();
       val.fit = fs;
     }

@@ -25,6 +25,12 @@ double BedFriction::mu_static(double h) const {
   return mu_bed(*this, h) + side_walls.mu(active_depth(h));
 }
 
+double BedFriction::mu_start(double h) const {
+  if (!(start_excess_deg > 0)) return mu_static(h);
+  const double excess = std::tan((internal_deg + start_excess_deg) * kDeg) - std::tan(internal_deg * kDeg);
+  return mu_static(h) + excess * surface_weight(h);
+}
+
 EarthPressure BedFriction::earth_pressure() const {
   return savage_hutter_pressure ? EarthPressure::savage_hutter(internal_deg * kDeg, basal_deg * kDeg)
                                 : EarthPressure::hydrostatic();
@@ -53,6 +59,11 @@ BedFriction bed_friction_from_yaml(YamlMap m) {
   f.internal_deg = m.number_or("internal_friction_deg", f.internal_deg, Range{0, 89, true, false});
   f.basal_deg = m.number_or("basal_friction_deg", f.basal_deg, Range{0, 89, true, false});
   f.delta_mu = m.number_or("delta_mu", f.delta_mu, Range::closed(0, 10));
+  f.start_excess_deg = m.number_or("start_excess_deg", f.start_excess_deg, Range::closed(0, 30));
+  if (f.internal_deg + f.start_excess_deg >= 89) {
+    throw InputError(m.where("start_excess_deg") + ": internal_friction_deg + start_excess_deg must stay below 89 deg (got " +
+                     std::to_string(f.internal_deg + f.start_excess_deg) + ")");
+  }
   f.i0 = m.number_or("i0", f.i0, Range{0, 100, true, false});
   f.grain_diameter = m.number_or("grain_diameter", f.grain_diameter, Range{0, 1, true, false});
   if (m.has("flowing_layer_depth") && m.has("flowing_layer_diameters")) {

@@ -103,8 +103,11 @@ void ShallowGranularFlow::step(double dt) {
     const double ustar = u[f] + dt * drive;
     const double k = dt * load;
     const double w = std::abs(ustar);
+    // Start/stop hysteresis (bed_friction.hpp, (F3)): a face at rest yields at μ_start, a moving one
+    // keeps moving while the drive exceeds μ_s.
+    const double yield = u[f] == 0 ? s_.friction.mu_start(hf) : s_.friction.mu_static(hf);
     double v = 0;
-    if (w > k * s_.friction.mu_static(hf)) v = friction_solve(s_.friction, hf, af, load, k, w);
+    if (w > k * yield) v = friction_solve(s_.friction, hf, af, load, k, w);
     double unew = ustar >= 0 ? v : -v;
     // No flux out of a dry cell, none into a full one.
     const int up = unew > 0 ? f - 1 : f, down = unew > 0 ? f : f - 1;

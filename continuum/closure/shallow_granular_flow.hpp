@@ -12,7 +12,9 @@
 //
 //   ∂h/∂t + ∂(a u_s)/∂x = 0                                                                  (S1)
 //   ∂u_s/∂t + u_s ∂u_s/∂x = g_t − K g_n ∂h/∂x − N μ(h, I) sgn(u_s)      (moving)             (S2)
-//   u_s = 0  while  |g_t − K g_n ∂h/∂x| ≤ N μ_s(h)                      (Coulomb yield)
+//   u_s = 0  while  |g_t − K g_n ∂h/∂x| ≤ N μ_start(h)                  (Coulomb yield)
+//   (μ_start = μ_s without start/stop hysteresis; with it, bed_friction.hpp (F3), a face at rest
+//   needs μ_start > μ_s to start, a moving face stops where the drive falls to N μ_s)
 //   N = g_n + (1 − e^{−h/ℓ}) g_t ∂h/∂x                                  (normal load)        (S3)
 //
 // (S3): a plug (h ≪ ℓ) presses on the floor with g_n, as in SH; a surface layer (h ≫ ℓ) flows along
@@ -34,7 +36,7 @@
 // 2003): h at cell centres, u_s at faces, end walls at the first and last face (u_s = 0 there).
 // Per step: u* = u + Δt (g_t − g_n Δh/Δx − u ∂u/∂x), advection in the momentum-conservative upwind
 // form of Stelling & Duinmeijer (right front speeds on a dry floor); Coulomb friction implicitly,
-// u_new = sgn(u*) v with v + Δt g_n μ(v) = |u*| if |u*| > Δt g_n μ_s, else 0 — so a bed below the
+// u_new = sgn(u*) v with v + Δt g_n μ(v) = |u*| if |u*| > Δt g_n μ_yield (μ_start at rest, μ_s moving), else 0 — so a bed below the
 // threshold stays exactly at rest (no numerical diffusion of h, unlike collocated Rusanov/HLL);
 // then h_i −= Δt/Δx (F_{i+1/2} − F_{i−1/2}) with F = a(h_upwind) u_new. Mass is conserved to
 // round-off (wall fluxes are zero) and h stays ≥ 0 for Δt (|u| + √(g_n a)) ≤ cfl Δx, cfl ≤ 0.5.

@@ -88,15 +88,14 @@ TEST_CASE("Closure vs DEM: bad input names the file", "[study][hold][closure][in
 // back with a wrong a-priori friction. The fit must find the known values from the early frames, and
 // the fitted closure must then agree on the later frames it was not fitted to, where the a-priori
 // one does not.
-TEST_CASE("Closure friction fit: a twin experiment recovers the friction that made the data",
-          "[study][hold][closure][fit]") {
-  TempDir dir("closure_fit_twin");
+namespace {
+
+/// The twin's "DEM" fields: the closure of `truth` on a flat 30 mm bed in the platform box, its bed
+/// heights and surface speeds per frame written as a cg field file (frames 0.2 to 6.4 s: the
+/// platform's swing both ways). Returns the largest |surface speed|.
+double write_twin_fields(const TempDir& dir, const studies::HoldSettings& truth) {
   std::vector<double> times;
-  for (int j = 2; j <= 64; ++j) times.push_back(0.1 * j);  // 0.2 to 6.4 s: the platform's swing both ways
-  studies::HoldSettings truth = stiff_material();
-  truth.name = "truth";
-  truth.friction.internal_deg = 17, truth.friction.basal_deg = 8;  // yields below the 24° tilt, side walls included
-  truth.friction.layer_depth = 3 * truth.friction.grain_diameter;
+  for (int j = 2; j <= 64; ++j) times.push_back(0.1 * j);
   // The truth's closure on a flat 30 mm bed (frames at rest: the bed as it was poured).
   grainscale::testing::write_planar_bed_fields(dir / "flat.h5", times, 0.03, 0, 0);
   const studies::ClosureDemComparison made =
@@ -110,8 +109,20 @@ TEST_CASE("Closure friction fit: a twin experiment recovers the friction that ma
     u[skipped + j] = made.closure_speed[j];
     peak = std::max(peak, std::fabs(u[skipped + j]));
   }
-  REQUIRE(peak > 0.05);  // the truth's bed flows: the fit has something to see
   grainscale::testing::write_bed_fields(dir / "twin.h5", times, h, u, 40);
+  return peak;
+}
+
+}  // namespace
+
+TEST_CASE("Closure friction fit: a twin experiment recovers the friction that made the data",
+          "[study][hold][closure][fit]") {
+  TempDir dir("closure_fit_twin");
+  studies::HoldSettings truth = stiff_material();
+  truth.name = "truth";
+  truth.friction.internal_deg = 17, truth.friction.basal_deg = 8;  // yields below the 24° tilt, side walls included
+  truth.friction.layer_depth = 3 * truth.friction.grain_diameter;
+  REQUIRE(write_twin_fields(dir, truth) > 0.05);  // the truth's bed flows: the fit has something to see
 
   studies::HoldSettings a_priori = truth;
   a_priori.name = "a_priori";
@@ -126,8 +137,6 @@ TEST_CASE("Closure friction fit: a twin experiment recovers the friction that ma
   INFO("fitted phi " << f.fitted[0] << ", delta " << f.fitted[1] << ", l/d " << f.fitted[2] << "; J train "
                      << f.fitted_train.objective << ", test " << f.fitted_test.objective << ", a priori test "
                      << f.a_priori_test.objective);
-  // The truth reproduces its own data exactly, so the data are the closure's measures.
-  CHECK(made.closure_angle_deg.size() == c.times.size());
   CHECK(f.a_priori_test.objective > 1);  // the wrong friction fails the bar on the test frames
   CHECK_FALSE(f.a_priori_test.agrees);
   CHECK(f.fitted_train.objective < 1e-3);
@@ -143,6 +152,38 @@ TEST_CASE("Closure friction fit: a twin experiment recovers the friction that ma
     CHECK(f.upper[j] > truth_values[j]);
   }
   CHECK(f.angle_deg.size() == c.times.size());
+}
+
+// The same twin experiment with start/stop hysteresis (bed_friction.hpp, (F3)): the truth starts at
+// φ + 2.5° and stops at φ; fitted from no hysteresis and a wrong φ, the fit must find both.
+TEST_CASE("Closure friction fit: a twin experiment recovers the start/stop hysteresis that made the data",
+          "[study][hold][closure][fit][hysteresis]") {
+  TempDir dir("closure_fit_twin_hysteresis");
+  studies::HoldSettings truth = stiff_material();
+  truth.name = "truth";
+  truth.friction.internal_deg = 17, truth.friction.basal_deg = 8, truth.friction.start_excess_deg = 2.5;
+  truth.friction.layer_depth = 3 * truth.friction.grain_diameter;
+  REQUIRE(write_twin_fields(dir, truth) > 0.05);
+  studies::HoldSettings a_priori = truth;
+  a_priori.name = "a_priori";
+  a_priori.friction.internal_deg = 23, a_priori.friction.start_excess_deg = 0;
+  studies::ClosureFitSettings fs;
+  fs.train_until = 3.4;
+  fs.parameters = {"internal_friction_deg", "start_excess_deg"};
+  const studies::ClosureDemComparison c =
+      studies::compare_closure_with_dem(dir / "twin.h5", kScenario, "box", a_priori, dir / "out", fs);
+  REQUIRE(c.fit);
+  const studies::ClosureFit& f = *c.fit;
+  INFO("fitted phi " << f.fitted[0] << " (" << f.lower[0] << " to " << f.upper[0] << "), excess " << f.fitted[1] << " ("
+                     << f.lower[1] << " to " << f.upper[1] << "); J train " << f.fitted_train.objective << ", test "
+                     << f.fitted_test.objective << ", a priori test " << f.a_priori_test.objective);
+  CHECK_FALSE(f.a_priori_test.agrees);
+  CHECK(f.fitted[0] == Approx(17).margin(0.3));
+  CHECK(f.fitted[1] == Approx(2.5).margin(0.3));
+  CHECK(f.fitted_test.agrees);
+  CHECK(f.lower[1] < 2.5);
+  CHECK(f.upper[1] > 2.5);
+  CHECK(f.lower[1] > 0);  // the data demand hysteresis: none is outside the range
 }
 
 TEST_CASE("Closure friction fit: a split without 3 frames on each side, or an unknown parameter, is an input error",
