@@ -38,7 +38,7 @@ const std::vector<Parameter>& parameter_table() {
       {"flowing_layer_diameters", std::log10(0.3), std::log10(300.0), {0, 0.301, 0.602, 0.903, 1.204, 1.806}, 0.15, 0.01,
        [](const BedFriction& f) { return std::log10(f.layer_depth / f.grain_diameter); },
        [](BedFriction& f, double v) { f.layer_depth = f.grain_diameter * std::pow(10.0, v); }},
-      {"delta_mu", 0, 2, {0, 0.1, 0.26, 0.5}, 0.05, 0.005,
+      {"delta_mu", 0, 10, {0, 0.1, 0.26, 0.5}, 0.05, 0.005,
        [](const BedFriction& f) { return f.delta_mu; }, [](BedFriction& f, double v) { f.delta_mu = v; }},
       {"start_excess_deg", 0, 15, {0, 2, 4, 7}, 1.0, 0.05,
        [](const BedFriction& f) { return f.start_excess_deg; }, [](BedFriction& f, double v) { f.start_excess_deg = v; }},

@@ -19,7 +19,7 @@ inline constexpr double kSpeedFloor = 0.01;      // m/s: below this the DEM bed 
 /// blocked hold-out in time, as issue 9 asks of every fit: never single frames). The frames with
 /// t <= train_until train, the later ones test. Parameters (BedFriction, bed_friction.hpp):
 ///   internal_friction_deg  φ in [5, 45]       basal_friction_deg  δ in [1, 45]
-///   flowing_layer_diameters  ℓ/d in [0.3, 300] (log scale)        delta_mu  Δμ in [0, 2]
+///   flowing_layer_diameters  ℓ/d in [0.3, 300] (log scale)        delta_mu  Δμ in [0, 10]
 ///   start_excess_deg  Δθ = θ_start − θ_stop in [0, 15] (start/stop hysteresis, bed_friction.hpp (F3))
 /// Objective on the training frames, the bar's own scales (both terms <= 1 is "agrees"):
 ///   J = (angle RMS / kAngleTolerance)² + (speed RMS / (kSpeedTolerance max(DEM RMS speed, kSpeedFloor)))²
