@@ -234,3 +234,16 @@ TEST_CASE("grainscale study reaches the hold runner through the kind key", "[stu
   CHECK(text.find("'scenarios'") != std::string::npos);
   CHECK(text.find("empty") != std::string::npos);
 }
+
+TEST_CASE("The shipped closure-sensitivity study loads and differs only in the friction law", "[study][hold][input]") {
+  const studies::HoldStudySettings s =
+      studies::load_hold_study_settings(std::string(GRAINSCALE_SOURCE_DIR) + "/studies/hold_closure_sensitivity.yaml");
+  REQUIRE(s.scenarios.size() == 2);
+  // The two closures differ in their friction law only.
+  const auto& a = s.scenarios[0].settings.friction;
+  const auto& b = s.scenarios[1].settings.friction;
+  CHECK(a.internal_deg == b.internal_deg);
+  CHECK(a.layer_depth / a.grain_diameter == Approx(10));
+  CHECK(b.layer_depth / b.grain_diameter == Approx(2.3));
+  CHECK(b.delta_mu == 4.45);
+}
