@@ -247,3 +247,15 @@ TEST_CASE("The shipped closure-sensitivity study loads and differs only in the f
   CHECK(b.layer_depth / b.grain_diameter == Approx(2.3));
   CHECK(b.delta_mu == 4.45);
 }
+
+TEST_CASE("The rolled deep slice's two closures load and differ only in the friction law", "[study][hold][input]") {
+  const std::string dir = std::string(GRAINSCALE_SOURCE_DIR) + "/studies/";
+  const studies::HoldSettings a = studies::load_hold_settings(dir + "hold_deep_slice_roll.yaml");
+  const studies::HoldSettings b = studies::load_hold_settings(dir + "hold_deep_slice_roll_calibrated.yaml");
+  CHECK(a.friction.layer_depth / a.friction.grain_diameter == Approx(10));
+  CHECK(b.friction.layer_depth / b.friction.grain_diameter == Approx(2.3));
+  CHECK(a.friction.delta_mu == 0.26);
+  CHECK(b.friction.delta_mu == 4.45);
+  CHECK(a.friction.basal_deg == b.friction.basal_deg);
+  CHECK(a.friction.side_walls.friction == b.friction.side_walls.friction);
+}
