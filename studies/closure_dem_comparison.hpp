@@ -17,6 +17,8 @@
 // Jop, Forterre & Pouliquen 2005), W the box's width across the section (the cg grid's y extent) and
 // μ_w the DEM's sliding friction of the grain on the box's material; and, for comparison, without
 // them (the 2-D closure, `open_*`). The verdict is the one with the side walls.
+// Beside them, the null model of a bed that does not move (`still_*`): the bar means something only
+// where that fails it.
 // "Agrees" (this study's bar, not a published one): surface angle within kAngleTolerance RMS and
 // surface speed within kSpeedTolerance of the DEM's RMS surface speed (at least kSpeedFloor) RMS.
 #include <cmath>
@@ -43,6 +45,10 @@ struct ClosureDemComparison {
   double angle_rms_error_deg = 0, angle_max_error_deg = 0;
   double speed_rms_error = 0, speed_max_error = 0, dem_speed_rms = 0;
   double open_angle_rms_error_deg = 0, open_angle_max_error_deg = 0, open_speed_rms_error = 0, open_speed_max_error = 0;
+  /// The null model: the bed of the first frame held rigid in the box (surface angle tilt − its
+  /// initial slope, speed 0). A closure that does no better than this has not shown what it adds.
+  double still_angle_rms_error_deg = 0, still_speed_rms_error = 0;
+  bool still_agrees = false;  // the null model passes the bar (on all frames)
   bool agrees = false;
   std::optional<ClosureFit> fit;     // when asked for
   std::vector<std::string> figures;  // written into the folder given (with comparison.csv), names relative to it

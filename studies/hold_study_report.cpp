@@ -228,7 +228,13 @@ std::string write_hold_study_report(const HoldStudySettings& s, const HoldStudyR
       << (step > 1 ? "One frame in " + std::to_string(step) + " shown; all in `closure_vs_dem/comparison.csv`.\n\n" : "")
       << "Verdict: the closure with side walls " << (v.agrees ? "**reproduces**" : "**does not reproduce**")
       << " this DEM flow (bar: surface angle within " << g(kAngleTolerance, 2) << " deg RMS and surface speed within "
-      << g(100 * kSpeedTolerance, 2) << " % of the DEM's RMS speed, at least " << g(kSpeedFloor, 2) << " m/s).\n\n";
+      << g(100 * kSpeedTolerance, 2) << " % of the DEM's RMS speed, at least " << g(kSpeedFloor, 2) << " m/s).\n\n"
+      << "Null model: the bed of the first frame held rigid in the box (no flow at all) is off by "
+      << g(v.still_angle_rms_error_deg, 3) << " deg and " << g(v.still_speed_rms_error, 3) << " m/s RMS, and "
+      << (v.still_agrees ? "**passes the bar too**: on this DEM run the bar cannot tell a closure that flows right "
+                           "from one that does not flow; compare the closure's errors with these."
+                         : "fails the bar: the DEM bed flows, and the bar asks the closure to follow it.")
+      << "\n\n";
     if (v.fit) {
       const ClosureFit& f = *v.fit;
       m << "### The closure's bed friction calibrated on the early frames\n\n"
@@ -277,9 +283,10 @@ std::string write_hold_study_report(const HoldStudySettings& s, const HoldStudyR
                      : "this study does not compare it with DEM (a `validate:` block does; docs/hold_prediction.md). ")
     << "Calibrated on DEM, it reproduces a 4-grain plug sliding in the 800 mm box and a 15-grain deep bed "
        "(docs/hold_prediction.md, \"the whole cycle\", \"A deep bed\"); the deep bed calibrates a slow creep "
-       "(flowing layer 2.3 d, delta_mu 4.45) where the hold scenarios assume the dense-flow law (10 d, 0.26), "
-       "and in a full Handysize hold the two put the chaff at the end walls and at the centre respectively "
-       "(studies/hold_closure_sensitivity.yaml): the friction law decides where chaff goes.\n"
+       "(flowing layer 2.3 d, delta_mu 4.45), which the Handysize scenarios use, against the dense-flow law "
+       "(10 d, 0.26) of the literature; in a full Handysize hold the dense-flow law puts the chaff at the end "
+       "walls and the calibrated one on the centreline (studies/hold_closure_sensitivity.yaml): the friction "
+       "law decides where chaff goes.\n"
     << "- **Chaff coefficients are assumed**, not fitted at these scales: segregation S and shear diffusion C come "
        "from each settings file. The ranking depends on them (segregation against diffusion).\n"
     << "- **The chaff grid keeps its initial surface** (docs/hold_prediction.md): the surface layer is carried at "

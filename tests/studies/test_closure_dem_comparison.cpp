@@ -62,6 +62,10 @@ TEST_CASE("Closure vs DEM: a planar DEM surface and a closure bed below its yiel
   CHECK(c.speed_rms_error == Approx(U).epsilon(1e-12));
   CHECK(c.speed_max_error == Approx(U).epsilon(1e-12));
   CHECK_FALSE(c.agrees);  // U = 2 cm/s against a still closure: more than half the DEM's speed
+  // The null model (the first bed held rigid) is the closure at rest here: the same errors.
+  CHECK(c.still_angle_rms_error_deg == Approx(0).margin(1e-9));
+  CHECK(c.still_speed_rms_error == Approx(U).epsilon(1e-12));
+  CHECK_FALSE(c.still_agrees);
   CHECK(std::filesystem::exists(dir / "out/comparison.csv"));
   CHECK(std::filesystem::exists(dir / "out/surface_angle.png"));
   // The box is 30 mm (4.5 grain diameters) wide: the report says side-wall friction is missing.
@@ -138,6 +142,7 @@ TEST_CASE("Closure friction fit: a twin experiment recovers the friction that ma
                      << f.fitted_train.objective << ", test " << f.fitted_test.objective << ", a priori test "
                      << f.a_priori_test.objective);
   CHECK(f.a_priori_test.objective > 1);  // the wrong friction fails the bar on the test frames
+  CHECK_FALSE(c.still_agrees);  // and so does a bed that never moves: the bar can tell flowing from still
   CHECK_FALSE(f.a_priori_test.agrees);
   CHECK(f.fitted_train.objective < 1e-3);
   CHECK(f.fitted[0] == Approx(17).margin(0.3));
