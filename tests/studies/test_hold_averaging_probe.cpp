@@ -9,7 +9,7 @@
 // tendency at that cycle's mean state reproduce it, per cell and as rates of the end shares, and
 // the fitted flux against the sampled one per face. The net transport is a ~5 % residue of the
 // oscillating flux, so the quadrature decides it: 50 samples 115 % off, 400 samples 1.6 %.
-// "[diagnosis_run]": run_hold on studies/PROBE_FILE (hold_handysize_full.yaml) with PROBE_CYCLES
+// "[diagnosis_run]": run_hold on studies/PROBE_FILE (hold_handysize_full_dense_flow.yaml: the law of the documented diagnosis) with PROBE_CYCLES
 // resolved, PROBE_AVERAGE averaged, to PROBE_END_H hours; prints the end shares every 2 h, to hold
 // against the resolved day.
 #include <catch2/catch.hpp>
@@ -95,7 +95,7 @@ double norm(const std::vector<double>& a) {
 
 TEST_CASE("hold diagnosis: the averaged model's tendency and one-cycle propagator against resolved cycles",
           "[.validate][hold][averaging][diagnosis]") {
-  const HoldSettings s = load_hold_settings(std::string(GRAINSCALE_SOURCE_DIR) + "/studies/hold_handysize_full.yaml");
+  const HoldSettings s = load_hold_settings(std::string(GRAINSCALE_SOURCE_DIR) + "/studies/hold_handysize_full_dense_flow.yaml");
   const int n0 = env_int("PROBE_CYCLES", 300), navg = env_int("PROBE_AVERAGE", 10);
   const double T = s.chunk;
   // Two identical models: A is probed, B carries the perturbed states (the closure is deterministic).
@@ -190,7 +190,7 @@ TEST_CASE("hold diagnosis: end shares of the averaged model against the resolved
           "[.validate][hold][averaging][diagnosis_run]") {
   const char* file = std::getenv("PROBE_FILE");  // default: the full hold
   HoldSettings s = load_hold_settings(std::string(GRAINSCALE_SOURCE_DIR) + "/studies/" +
-                                      (file ? file : "hold_handysize_full.yaml"));
+                                      (file ? file : "hold_handysize_full_dense_flow.yaml"));
   s.t_end = env_int("PROBE_END_H", 8) * 3600.0;
   s.outputs = static_cast<int>(s.t_end / 7200);
   s.resolved_chunks = env_int("PROBE_CYCLES", 300);
