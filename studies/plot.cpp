@@ -178,25 +178,38 @@ int covered(const Image& img, int x0, int y0, int w, int h) {
   return n;
 }
 
-void draw_legend(Image& img, const PixelBox& area, LegendPlace place, const std::vector<LegendEntry>& entries) {
-  if (place == LegendPlace::none || entries.empty()) return;
-  constexpr int kSample = 34, kRow = kTextHeight + 8, kBoxPad = 8;
+constexpr int kLegendSample = 34, kLegendRow = kTextHeight + 8, kLegendPad = 8;
+
+/// The legend box's width and height in pixels.
+std::pair<int, int> legend_size(const std::vector<LegendEntry>& entries) {
   int text_w = 0;
   for (const auto& e : entries) text_w = std::max(text_w, text_size(e.name, kText).width);
-  const int w = kBoxPad + kSample + 8 + text_w + kBoxPad, h = 2 * kBoxPad + kRow * static_cast<int>(entries.size()) - 8;
-  if (place == LegendPlace::best) {
-    // First of the least-covered candidates, in a fixed order: deterministic.
-    int least = -1;
-    for (LegendPlace p : {LegendPlace::top_right, LegendPlace::top_left, LegendPlace::top_centre, LegendPlace::bottom_right,
-                          LegendPlace::bottom_left, LegendPlace::bottom_centre}) {
-      const auto [x, y] = legend_corner(area, p, w, h);
-      const int n = covered(img, x, y, w, h);
-      if (least < 0 || n < least) {
-        least = n;
-        place = p;
-      }
+  return {kLegendPad + kLegendSample + 8 + text_w + kLegendPad, 2 * kLegendPad + kLegendRow * static_cast<int>(entries.size()) - 8};
+}
+
+/// `best`: the first of the least-covered candidate places, in a fixed order (deterministic), and
+/// how many data pixels it covers.
+std::pair<LegendPlace, int> least_covered(const Image& img, const PixelBox& area, const std::vector<LegendEntry>& entries) {
+  const auto [w, h] = legend_size(entries);
+  LegendPlace place = LegendPlace::top_right;
+  int least = -1;
+  for (LegendPlace p : {LegendPlace::top_right, LegendPlace::top_left, LegendPlace::top_centre, LegendPlace::bottom_right,
+                        LegendPlace::bottom_left, LegendPlace::bottom_centre}) {
+    const auto [x, y] = legend_corner(area, p, w, h);
+    const int n = covered(img, x, y, w, h);
+    if (least < 0 || n < least) {
+      least = n;
+      place = p;
     }
   }
+  return {place, least};
+}
+
+void draw_legend(Image& img, const PixelBox& area, LegendPlace place, const std::vector<LegendEntry>& entries) {
+  if (place == LegendPlace::none || entries.empty()) return;
+  constexpr int kSample = kLegendSample, kRow = kLegendRow, kBoxPad = kLegendPad;
+  const auto [w, h] = legend_size(entries);
+  if (place == LegendPlace::best) place = least_covered(img, area, entries).first;
   const auto [x0, y0] = legend_corner(area, place, w, h);
   fill_rect(img, x0, y0, x0 + w, y0 + h, kWhite, area);
   stroke_rect(img, x0, y0, x0 + w, y0 + h, kLegendBorder, area);
@@ -273,6 +286,17 @@ Image draw(const LinePlot& p, PlotGeometry* geometry) {
       }
     }
     if (!s.name.empty()) legend.push_back({s.name, colour, s.line, s.marker, false});
+  }
+  if (p.legend == LegendPlace::best && !legend.empty() && !p.axes.y_max && least_covered(img, f.g.area, legend).second > 0) {
+    // Every place the legend could go hides data: draw again with the y axis raised by the legend's
+    // height, so that a band above the data holds it (once: the raised axis is then fixed).
+    const int area_h = f.g.area.bottom - f.g.area.top, band = legend_size(legend).second + 20;
+    if (band < area_h / 2) {
+      LinePlot raised = p;
+      raised.axes.y_min = f.g.y_lo;
+      raised.axes.y_max = f.g.y_lo + (f.g.y_hi - f.g.y_lo) * area_h / (area_h - band);
+      return draw(raised, geometry);
+    }
   }
   draw_legend(img, f.g.area, p.legend, legend);
   draw_axes(img, p.axes, f);

@@ -210,3 +210,33 @@ TEST_CASE("Histogram counts finite values per bin, the last bin closed", "[studi
   CHECK(n == std::vector<double>{2, 3});
   CHECK_THROWS_AS(histogram({1.0}, {1.0}), std::invalid_argument);
 }
+
+TEST_CASE("A legend that would hide data in every place gets a band of its own above the data", "[studies][plot]") {
+  // Red lines across the whole plot every 0.1 in y: every corner and both centres hold data. The y
+  // axis is raised so that the legend sits above the top line and no red pixel is covered; the data
+  // keep their x axis and the bottom of their y axis.
+  LinePlot p;
+  for (int k = 0; k <= 10; ++k) {
+    p.series.push_back({k == 0 ? "one of eleven red lines across the plot" : "", {0.0, 1.0}, {0.1 * k, 0.1 * k},
+                        LineStyle::solid, Marker::none, kRed, 3});
+  }
+  p.series.push_back({"a second entry", {0.5}, {0.5}, LineStyle::none, Marker::circle, kRed});
+  PlotGeometry g;
+  const Image img = draw(p, &g);
+  CHECK(g.y_lo == 0.0);
+  CHECK(g.y_hi > 1.1);  // raised
+  CHECK(g.x_lo == 0.0);
+  CHECK(g.x_hi == 1.0);
+  // Every line is drawn whole: red across its row, nothing drawn over it.
+  for (int k = 0; k <= 10; ++k) {
+    const int row = g.row(0.1 * k);
+    int red = 0;
+    for (int x = g.column(0.0); x <= g.column(1.0); ++x) red += same(img.at(x, row), kRed);
+    CAPTURE(k);
+    CHECK(red == g.column(1.0) - g.column(0.0) + 1);
+  }
+  // A fixed y axis is kept as given: the legend then covers what it must.
+  p.axes.y_max = 1.0;
+  draw(p, &g);
+  CHECK(g.y_hi == 1.0);
+}
