@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstdint>
 #include <cstring>
 #include <ctime>
@@ -238,6 +239,13 @@ int run_bench(const Args& a) {
               sc.name.c_str(), sim->particles().size(), sim->dt(), sim->time(), sim->diagnostics().contacts,
               sim->diagnostics().wall_contacts);
   std::printf("memory: %.0f bytes per sphere\n", static_cast<double>(sim->bytes()) / sim->particles().size());
+  {
+    // How waiting threads behave decides the 2-thread figure (studies/openmp_wait_policy.hpp).
+    const char* policy = std::getenv("OMP_WAIT_POLICY");
+    const char* spin = std::getenv("GOMP_SPINCOUNT");
+    std::printf("OpenMP waiting: %s%s%s%s\n", policy ? "OMP_WAIT_POLICY=" : "", policy ? policy : "",
+                policy && spin ? ", " : "", spin ? (std::string("GOMP_SPINCOUNT=") + spin).c_str() : (policy ? "" : "libgomp default"));
+  }
   double base = 0;
   for (int threads : thread_list(a.threads, {1, 2})) {
     omp_set_num_threads(threads);
