@@ -2,7 +2,6 @@
 
 #include <unistd.h>
 
-#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -16,23 +15,24 @@ bool under_valgrind() {
   const char* preload = std::getenv("LD_PRELOAD");
   return preload != nullptr && std::strstr(preload, "vgpreload") != nullptr;
 }
-/// The first field of /proc/loadavg, NaN if it cannot be read.
-double load_average() {
+/// Runnable tasks now, from /proc/loadavg ("0.20 0.80 1.21 1/78 11492": the 1 of 1/78); 0 if unreadable.
+int runnable_tasks() {
   std::FILE* f = std::fopen("/proc/loadavg", "r");
-  if (!f) return NAN;
-  double load = NAN;
-  if (std::fscanf(f, "%lf", &load) != 1) load = NAN;
+  if (!f) return 0;
+  double a = 0, b = 0, c = 0;
+  int runnable = 0, total = 0;
+  if (std::fscanf(f, "%lf %lf %lf %d/%d", &a, &b, &c, &runnable, &total) != 5) runnable = 0;
   std::fclose(f);
-  return load;
+  return runnable;
 }
 }  // namespace
 
-const char* spin_count_for(double load) { return load < kIdleLoad ? kIdleSpinCount : kDefaultSpinCount; }
+const char* spin_count_for(int runnable) { return runnable == 1 ? kIdleSpinCount : kDefaultSpinCount; }
 
 void prefer_short_openmp_spin(char** argv) {
   if (std::getenv("OMP_WAIT_POLICY") != nullptr || std::getenv("GOMP_SPINCOUNT") != nullptr) return;
   if (under_valgrind()) return;
-  if (setenv("GOMP_SPINCOUNT", spin_count_for(load_average()), 1) != 0) return;
+  if (setenv("GOMP_SPINCOUNT", spin_count_for(runnable_tasks()), 1) != 0) return;
   execv("/proc/self/exe", argv);  // returns only on failure: go on as we are
 }
 

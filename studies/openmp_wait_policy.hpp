@@ -12,8 +12,9 @@
 // are too short even when idle: 2 threads 13.5-14.1 M (1.58-1.62x of 1 thread's 8.7 M), spin 3000
 // 15.2 M (1.80x), 30,000 15.4 M (1.80x), 300,000 15.5 M (1.82x); with two `yes` jobs beside it,
 // spin 300 4.7 / 7.7 M, spin 30,000 4.0 / 4.0 M. So the spin is chosen by the load found at start
-// (spin_count_for): the long spin where the machine is idle (1-minute load average below 0.5,
-// nothing else runnable to speak of), the short one otherwise. The choice changes no result (the
+// (spin_count_for): the long spin where the machine is idle (nothing but this program runnable,
+// by the instantaneous count in /proc/loadavg; the load averages lag by minutes, so a run started
+// just after another would be misjudged), the short one otherwise. The choice changes no result (the
 // trajectories do not depend on how threads wait), only the speed.
 //
 // libgomp reads the variable once, when it is loaded (before main), so setting it later has no
@@ -25,10 +26,10 @@ namespace grainscale::studies {
 /// shared machine, and on an idle one.
 inline constexpr const char* kDefaultSpinCount = "300";
 inline constexpr const char* kIdleSpinCount = "30000";
-inline constexpr double kIdleLoad = 0.5;  // 1-minute load average below which the machine counts as idle
 
-/// The spin count for a 1-minute load average `load` (NaN: unknown, taken as shared).
-const char* spin_count_for(double load);
+/// The spin count when `runnable` tasks are runnable on the machine, this program included (the
+/// fourth field of /proc/loadavg): idle (the long spin) only for exactly 1; 0 means unknown, taken as shared.
+const char* spin_count_for(int runnable);
 
 /// Call first thing in main(). Returns only if no re-execution was needed or it failed (then the
 /// program goes on with libgomp's default).
