@@ -241,10 +241,10 @@ int run_bench(const Args& a) {
   std::printf("memory: %.0f bytes per sphere\n", static_cast<double>(sim->bytes()) / sim->particles().size());
   {
     // How waiting threads behave decides the 2-thread figure (studies/openmp_wait_policy.hpp).
-    const char* policy = std::getenv("OMP_WAIT_POLICY");
-    const char* spin = std::getenv("GOMP_SPINCOUNT");
-    std::printf("OpenMP waiting: %s%s%s%s\n", policy ? "OMP_WAIT_POLICY=" : "", policy ? policy : "",
-                policy && spin ? ", " : "", spin ? (std::string("GOMP_SPINCOUNT=") + spin).c_str() : (policy ? "" : "libgomp default"));
+    std::string waiting;
+    if (const char* policy = std::getenv("OMP_WAIT_POLICY")) waiting = std::string("OMP_WAIT_POLICY=") + policy;
+    if (const char* spin = std::getenv("GOMP_SPINCOUNT")) waiting += (waiting.empty() ? "" : ", ") + std::string("GOMP_SPINCOUNT=") + spin;
+    std::printf("OpenMP waiting: %s\n", waiting.empty() ? "libgomp default" : waiting.c_str());
   }
   double base = 0;
   for (int threads : thread_list(a.threads, {1, 2})) {
@@ -342,7 +342,7 @@ int run_shape(const Args& a) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  studies::prefer_short_openmp_spin(argv);  // before any OpenMP: see openmp_wait_policy.hpp
+  studies::choose_openmp_spin(argv);  // before any OpenMP: see openmp_wait_policy.hpp
   if (argc < 2 || !std::strcmp(argv[1], "--help") || !std::strcmp(argv[1], "-h") || !std::strcmp(argv[1], "help")) {
     std::cout << kUsage;
     return argc < 2 ? 1 : 0;

@@ -29,7 +29,7 @@ int runnable_tasks() {
 
 const char* spin_count_for(int runnable) { return runnable == 1 ? kIdleSpinCount : kDefaultSpinCount; }
 
-void prefer_short_openmp_spin(char** argv) {
+void choose_openmp_spin(char** argv) {
   if (std::getenv("OMP_WAIT_POLICY") != nullptr || std::getenv("GOMP_SPINCOUNT") != nullptr) return;
   if (under_valgrind()) return;
   if (setenv("GOMP_SPINCOUNT", spin_count_for(runnable_tasks()), 1) != 0) return;

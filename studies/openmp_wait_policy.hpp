@@ -33,6 +33,6 @@ const char* spin_count_for(int runnable);
 
 /// Call first thing in main(). Returns only if no re-execution was needed or it failed (then the
 /// program goes on with libgomp's default).
-void prefer_short_openmp_spin(char** argv);
+void choose_openmp_spin(char** argv);
 
 }  // namespace grainscale::studies
