@@ -297,10 +297,10 @@ ClosureDemComparison compare_closure_with_dem(const std::string& cg_fields, cons
     const double s0 = std::atan(slope(xc, h0, h_min));
     std::vector<double> still_angle, still_speed(out.times.size(), 0.0);
     for (double tilt : out.tilt_deg) still_angle.push_back(tilt - s0 * 180 / M_PI);
-    double mx = 0;
-    rms_max(out.dem_angle_deg, still_angle, out.still_angle_rms_error_deg, mx);
-    rms_max(out.dem_speed, still_speed, out.still_speed_rms_error, mx);
-    out.still_agrees = block_errors(out.dem_angle_deg, out.dem_speed, still_angle, still_speed, 0, out.times.size()).agrees;
+    const BlockErrors still = block_errors(out.dem_angle_deg, out.dem_speed, still_angle, still_speed, 0, out.times.size());
+    out.still_angle_rms_error_deg = still.angle_rms_deg;
+    out.still_speed_rms_error = still.speed_rms;
+    out.still_agrees = still.agrees;
   }
   rms_max(out.dem_angle_deg, out.closure_angle_deg, out.angle_rms_error_deg, out.angle_max_error_deg);
   rms_max(out.dem_speed, out.closure_speed, out.speed_rms_error, out.speed_max_error);

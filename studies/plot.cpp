@@ -207,7 +207,6 @@ std::pair<LegendPlace, int> least_covered(const Image& img, const PixelBox& area
 
 void draw_legend(Image& img, const PixelBox& area, LegendPlace place, const std::vector<LegendEntry>& entries) {
   if (place == LegendPlace::none || entries.empty()) return;
-  constexpr int kSample = kLegendSample, kRow = kLegendRow, kBoxPad = kLegendPad;
   const auto [w, h] = legend_size(entries);
   if (place == LegendPlace::best) place = least_covered(img, area, entries).first;
   const auto [x0, y0] = legend_corner(area, place, w, h);
@@ -215,15 +214,15 @@ void draw_legend(Image& img, const PixelBox& area, LegendPlace place, const std:
   stroke_rect(img, x0, y0, x0 + w, y0 + h, kLegendBorder, area);
   for (std::size_t k = 0; k < entries.size(); ++k) {
     const LegendEntry& e = entries[k];
-    const int y = y0 + kBoxPad + static_cast<int>(k) * kRow, cy = y + kTextHeight / 2;
-    const int sx = x0 + kBoxPad;
+    const int y = y0 + kLegendPad + static_cast<int>(k) * kLegendRow, cy = y + kTextHeight / 2;
+    const int sx = x0 + kLegendPad;
     if (e.swatch) {
-      fill_rect(img, sx + 8, cy - 7, sx + kSample - 8, cy + 7, e.colour, area);
-      stroke_rect(img, sx + 8, cy - 7, sx + kSample - 8, cy + 7, kInk, area);
+      fill_rect(img, sx + 8, cy - 7, sx + kLegendSample - 8, cy + 7, e.colour, area);
+      stroke_rect(img, sx + 8, cy - 7, sx + kLegendSample - 8, cy + 7, kInk, area);
     }
-    if (e.line != LineStyle::none) draw_line(img, sx, cy, sx + kSample, cy, e.colour, 2, e.line == LineStyle::dashed, area);
-    if (e.marker != Marker::none) draw_marker(img, e.marker, sx + kSample / 2, cy, 4, e.colour, area);
-    draw_text(img, sx + kSample + 8, y, e.name, kInk, kText);
+    if (e.line != LineStyle::none) draw_line(img, sx, cy, sx + kLegendSample, cy, e.colour, 2, e.line == LineStyle::dashed, area);
+    if (e.marker != Marker::none) draw_marker(img, e.marker, sx + kLegendSample / 2, cy, 4, e.colour, area);
+    draw_text(img, sx + kLegendSample + 8, y, e.name, kInk, kText);
   }
 }
 
