@@ -1,7 +1,9 @@
 #include "coarsegrain/cg_run.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <map>
 #include <numeric>
 #include <sstream>
 
@@ -108,6 +110,18 @@ static double recorded_phase(const dem::Snapshot& snap, const std::string& wall,
                    (wall.empty() ? std::string("is not set") : "does not move in this snapshot"));
 }
 
+/// Snapshots in one whole cycle of `period`: the period over the median interval between the
+/// (sorted) snapshot times, rounded; 1 for a single snapshot.
+static int snapshots_per_cycle(std::vector<double> times, double period) {
+  std::sort(times.begin(), times.end());
+  std::vector<double> gaps;
+  for (std::size_t k = 1; k < times.size(); ++k)
+    if (times[k] > times[k - 1]) gaps.push_back(times[k] - times[k - 1]);
+  if (gaps.empty()) return 1;
+  std::nth_element(gaps.begin(), gaps.begin() + static_cast<std::ptrdiff_t>(gaps.size() / 2), gaps.end());
+  return std::max(1, static_cast<int>(std::lround(period / gaps[gaps.size() / 2])));
+}
+
 CgSummary run_coarse_graining(const CgSettings& s) {
   if (s.snapshots.empty()) throw InputError(s.source + ": no snapshots to coarse-grain");
   std::error_code ec;
@@ -132,6 +146,7 @@ CgSummary run_coarse_graining(const CgSettings& s) {
   std::vector<FieldFrame> frames;
   Moments window;
   PhaseAverage phases(s.averaging == Averaging::phase ? s.phase_bins : 1);
+  std::map<long, Moments> cycles;  // cycle index k -> the sum over its snapshots
   const FieldOptions& options = s.surface;
 
   for (std::size_t n = 0; n < s.snapshots.size(); ++n) {
@@ -150,6 +165,15 @@ CgSummary run_coarse_graining(const CgSettings& s) {
         if (std::isnan(phase) && s.period > 0) phase = (snap.time - s.t0) / s.period;
         if (std::isnan(phase)) phase = recorded_phase(snap, s.container_wall, s.snapshots[n].path);
         phases.add(phase, m);
+        break;
+      }
+      case Averaging::cycles: {
+        // Cycle k is [t0 + kT, t0 + (k + 1)T); a snapshot on a boundary (up to round-off in its
+        // time) opens the next cycle. Snapshots before t0 belong to no cycle.
+        const double k = std::floor((snap.time - s.t0) / s.period + 1e-6);
+        if (k < 0) break;
+        auto [it, fresh] = cycles.try_emplace(static_cast<long>(k), m);
+        if (!fresh) it->second.add(m);
         break;
       }
     }
@@ -180,6 +204,20 @@ CgSummary run_coarse_graining(const CgSettings& s) {
       if (phases.count(b) == 0) continue;  // no snapshot at this phase
       frames.push_back({derive_fields(phases.average(b), grid, species, options), "phase", static_cast<double>(b) / phases.bins(),
                         static_cast<double>(b + 1) / phases.bins()});
+    }
+  } else if (s.averaging == Averaging::cycles) {
+    // Only whole cycles: as many snapshots as the period holds at the usual snapshot interval, so
+    // that each frame is a cycle mean, not a part of one weighted toward some phases.
+    const int full = snapshots_per_cycle(summary.times, s.period);
+    for (auto& [k, sum] : cycles) {
+      if (sum.snapshots < full) continue;
+      sum.average();
+      frames.push_back({derive_fields(sum, grid, species, options), "cycles", 0, 0});
+    }
+    if (frames.empty()) {
+      throw InputError(s.source + ": averaging.period = " + std::to_string(s.period) + " s, t0 = " + std::to_string(s.t0) +
+                       " s: no whole cycle of " + std::to_string(full) + " snapshots among the " +
+                       std::to_string(s.snapshots.size()) + " given");
     }
   }
   summary.snapshots = static_cast<int>(s.snapshots.size());

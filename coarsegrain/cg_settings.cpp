@@ -15,6 +15,7 @@ const char* name(Averaging a) {
     case Averaging::snapshot: return "snapshot";
     case Averaging::window: return "window";
     case Averaging::phase: return "phase";
+    case Averaging::cycles: return "cycles";
   }
   return "?";
 }
@@ -98,11 +99,17 @@ CgSettings load_cg_settings(const std::string& file) {
   if (s.chaff.empty()) throw InputError(y.where("species") + ": mark at least one species 'chaff: true'");
 
   if (auto a = y.optional_map("averaging")) {
-    const std::string mode = a->choice_or("mode", "snapshot", {"snapshot", "window", "phase"});
-    s.averaging = mode == "window" ? Averaging::window : mode == "phase" ? Averaging::phase : Averaging::snapshot;
+    const std::string mode = a->choice_or("mode", "snapshot", {"snapshot", "window", "phase", "cycles"});
+    s.averaging = mode == "window"   ? Averaging::window
+                  : mode == "phase"  ? Averaging::phase
+                  : mode == "cycles" ? Averaging::cycles
+                                     : Averaging::snapshot;
     s.phase_bins = static_cast<int>(a->integer_or("phase_bins", 8, 1, 1000));
     s.period = a->number_or("period", 0, Range::non_negative());
     s.t0 = a->number_or("t0", 0);
+    if (s.averaging == Averaging::cycles && !(s.period > 0)) {
+      throw InputError(a->where("period") + ": averaging by cycles needs the motion's period (s), > 0");
+    }
     if (s.averaging == Averaging::phase && !(s.period > 0) && s.container_wall.empty()) {
       for (const auto& e : s.snapshots) {
         if (std::isnan(e.phase)) {

@@ -14,7 +14,7 @@
 
 namespace grainscale::cg {
 
-enum class Averaging { snapshot, window, phase };
+enum class Averaging { snapshot, window, phase, cycles };
 const char* name(Averaging a);
 
 struct SnapshotEntry {
@@ -38,7 +38,8 @@ struct CgSettings {
   std::map<std::string, double> density;
   Averaging averaging = Averaging::snapshot;
   int phase_bins = 8;
-  double period = 0, t0 = 0;  // s; phase = (t - t0) / period where a snapshot has no phase
+  double period = 0, t0 = 0;  // s; phase = (t - t0) / period where a snapshot has no phase;
+                              // cycles: the k-th frame averages [t0 + k period, t0 + (k + 1) period)
   FieldOptions surface;
   double slice_width = 0.05, end_length = 0.1;
   TopViewSettings top_view;

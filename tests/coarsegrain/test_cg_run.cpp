@@ -120,6 +120,8 @@ TEST_CASE("Coarse-graining settings: every mistake is an InputError naming the k
                            Bad{"chaff: {chaff: true}", "chaff: {}", "chaff: true"},
                            Bad{"wheat: {density: 1380}", "wheat: {density: -5}", "species.wheat.density"},
                            // (phase averaging without a period: see the recorded-phase test below)
+                           Bad{"averaging: {mode: window}", "averaging: {mode: cycles}", "averaging.period"},
+                           Bad{"averaging: {mode: window}", "averaging: {mode: cycle, period: 2}", "averaging.mode"},
                            Bad{"end_length: 0.1", "end_length: 0.3", "measures.end_length"},
                            Bad{"cells: [40, 1, 10]", "cells: [40, 1]", "grid.cells"},
                            Bad{"output: out\n", "", "output"},
@@ -247,4 +249,50 @@ TEST_CASE("Phase averaging takes each snapshot's phase from the container's reco
                            "averaging: {mode: phase, phase_bins: 4}\n"
                            "output: out\n");
   CHECK_THROWS_AS(load_cg_settings(settings), InputError);
+}
+
+TEST_CASE("Averaging by cycles gives one frame per whole motion cycle, the window average of its snapshots", "[cg][run]") {
+  // One chaff sphere drifting at 0.1 m/s along x (no gravity, no contacts), snapshots every 0.25 s
+  // from 0 to 2.25 s; cycles of 1 s from t0 = 0: [0, 1) and [1, 2) are whole (4 snapshots each),
+  // [2, 3) holds only 2 and is left out.
+  const TempDir dir;
+  dem::MaterialTable materials;
+  materials.add({"chaff", 100, 1.0e6, 0.4});
+  materials.set_pair(0, 0, {0.5, 0.3, 0.01, true});
+  dem::SimulationSettings st;
+  st.gravity = {0, 0, 0};
+  st.time_step = 0.005;
+  dem::Simulation sim(materials, st);
+  sim.add_sphere(0, 0.002, {0.02, 0.05, 0.02}, {0.1, 0, 0});
+  sim.setup();
+  std::string all, first_cycle;
+  for (int k = 0; k < 10; ++k) {
+    while (sim.time() < 0.25 * k - 1e-9) sim.step();
+    const std::string name = "snap_" + std::to_string(k) + ".h5";
+    dem::write_snapshot(sim, dir / name, {"cycles test", 1});
+    all += "  - {path: " + name + "}\n";
+    if (k < 4) first_cycle += "  - {path: " + name + "}\n";
+  }
+  const std::string common = "container: {lo: [0, 0, 0], hi: [0.4, 0.1, 0.04]}\n"
+                             "grid: {dimension: 1, cells: [40, 1, 1]}\n"
+                             "kernel: {width: 1.0, diameter: 0.004}\n"
+                             "species: {chaff: {chaff: true}}\n";
+  write_text(dir / "cycles.yaml", "snapshots:\n" + all + common + "averaging: {mode: cycles, period: 1.0, t0: 0}\noutput: cycles\n");
+  write_text(dir / "window.yaml", "snapshots:\n" + first_cycle + common + "averaging: {mode: window}\noutput: window\n");
+  const CgSummary cycles = run_coarse_graining(load_cg_settings(dir / "cycles.yaml"));
+  CHECK(cycles.frames == 2);
+  run_coarse_graining(load_cg_settings(dir / "window.yaml"));
+
+  // The first cycle's frame is the window average of snapshots 0-3: the same rows, bit for bit,
+  // at their mean time 0.375 s; the second frame is at 1.375 s.
+  const std::string c = slurp(dir / "cycles/fields.csv"), w = slurp(dir / "window/fields.csv");
+  REQUIRE(c.size() > w.size());
+  CHECK(c.substr(0, w.size()) == w);
+  const std::size_t row = w.find('\n') + 1, second = w.size();
+  CHECK_THAT(std::stod(w.substr(row)), WithinAbs(0.375, 1e-9));
+  CHECK_THAT(std::stod(c.substr(second)), WithinAbs(1.375, 1e-9));
+
+  // Without a whole cycle (t0 after the last full one) it is a clear error naming the period.
+  write_text(dir / "late.yaml", "snapshots:\n" + all + common + "averaging: {mode: cycles, period: 1.0, t0: 2.0}\noutput: late\n");
+  REQUIRE_THROWS_WITH(run_coarse_graining(load_cg_settings(dir / "late.yaml")), Catch::Contains("no whole cycle"));
 }
