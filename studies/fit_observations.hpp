@@ -23,6 +23,10 @@ namespace grainscale::studies {
 struct ObservationFiles {
   std::string fields, coverage;                       // CSV paths; empty: not observed
   std::optional<double> field_sigma, coverage_sigma;  // for files without a sigma column
+  /// Field rows whose solid volume fraction (column `phi`, as a `grainscale cg` fields.csv has)
+  /// is below this are not data: above a bed's surface the kernel still sees a few grains, and c
+  /// there is noise. 0: every row.
+  double min_solid_fraction = 0;
 };
 
 /// One value on the grid: a cell (fields) or a column (coverage) at one of the times.

@@ -35,7 +35,7 @@ std::size_t cg_fields_to_csv(const std::string& path, const std::string& csv_pat
     const auto x = read_hdf5_doubles(file, path, "/grid/x", dx), y = read_hdf5_doubles(file, path, "/grid/y", dy), z = read_hdf5_doubles(file, path, "/grid/z", dz);
     const int frames = static_cast<int>(attribute(file, path, "/frames", "count"));
     if (frames < 1) throw InputError(path + ": no frames");
-    out << "t_s,x_m,z_m,c\n";
+    out << "t_s,x_m,z_m,c,phi\n";
     for (int f = 0; f < frames; ++f) {
       char name[32];
       std::snprintf(name, sizeof name, "/frames/%06d", f);
@@ -45,20 +45,24 @@ std::size_t cg_fields_to_csv(const std::string& path, const std::string& csv_pat
       if (dc != std::vector<hsize_t>{z.size(), y.size(), x.size()}) {
         throw InputError(path + ": " + name + "/chaff_volume_concentration is not (nz, ny, nx)");
       }
+      std::vector<hsize_t> dp;
+      const auto phi = read_hdf5_doubles(file, path, std::string(name) + "/mixture/volume_fraction", dp);
+      if (dp != dc) throw InputError(path + ": " + name + "/mixture/volume_fraction is not (nz, ny, nx)");
       for (std::size_t k = 0; k < z.size(); ++k) {
         for (std::size_t i = 0; i < x.size(); ++i) {
-          double sum = 0;
+          double sum = 0, solid = 0;
           int n = 0;
           for (std::size_t j = 0; j < y.size(); ++j) {
-            const double v = c[(k * y.size() + j) * x.size() + i];
-            if (std::isfinite(v)) {
-              sum += v;
+            const std::size_t at = (k * y.size() + j) * x.size() + i;
+            if (std::isfinite(c[at])) {
+              sum += c[at];
+              solid += phi[at];
               ++n;
             }
           }
           if (n == 0) continue;  // no particles in this (x, z) cell
-          char row[128];
-          std::snprintf(row, sizeof row, "%.9g,%.9g,%.9g,%.9g\n", t, x[i], z[k], sum / n);
+          char row[160];
+          std::snprintf(row, sizeof row, "%.9g,%.9g,%.9g,%.9g,%.9g\n", t, x[i], z[k], sum / n, solid / n);
           out << row;
           ++rows;
         }

@@ -1,7 +1,7 @@
 #pragma once
 // Coarse-grained DEM fields (a `grainscale cg` fields.h5, docs/coarsegrain_layout.md) as measured
 // data for `grainscale loop`: every frame's chaff volume concentration, averaged over y where the
-// cells hold particles, becomes rows t_s,x_m,z_m,c of a CSV (the layout fit_observations.hpp reads),
+// cells hold particles, becomes rows t_s,x_m,z_m,c,phi of a CSV (phi: the solid volume fraction there) (the layout fit_observations.hpp reads),
 // so the same nearest-cell mapping and inverse-variance combination apply to DEM and to measurements.
 #include <string>
 

@@ -143,6 +143,22 @@ TEST_CASE("Fit data go to their nearest cell and combine by inverse variance", "
   write(dir / "neg.csv", "t_s,x_m,z_m,c,sigma\n10,0.1,0.01,0.2,0\n");
   files.fields = (dir / "neg.csv").string();
   CHECK_THROWS_WITH(map_observations(files, g, 0.0), Catch::Contains("neg.csv:2: sigma must be positive"));
+
+  // Rows above a bed's surface (a cg fields.csv's phi below min_solid_fraction) are not data.
+  write(dir / "phi.csv", "t_s,x_m,z_m,c,phi\n10,0.05,0.01,0.2,0.55\n10,0.05,0.09,0.9,0.05\n10,0.15,0.09,0.3,0.3\n");
+  files.fields = (dir / "phi.csv").string();
+  files.field_sigma = 0.01;
+  files.coverage.clear();
+  files.min_solid_fraction = 0.3;
+  const Observations bed = map_observations(files, g, 0.0);
+  CHECK(bed.field_rows == 2);  // the 0.05 row is left out; 0.3 is kept
+  REQUIRE(bed.fields.size() == 2);
+  CHECK(bed.fields[0].value == 0.2);
+  files.min_solid_fraction = 0;
+  CHECK(map_observations(files, g, 0.0).field_rows == 3);
+  files.min_solid_fraction = 0.3;
+  files.fields = (dir / "ok.csv").string();  // no phi column
+  CHECK_THROWS_WITH(map_observations(files, g, 0.0), Catch::Contains("ok.csv") && Catch::Contains("'phi' column"));
   fs::remove_all(dir);
 }
 
@@ -322,6 +338,10 @@ TEST_CASE("Bad fit settings and data are input errors naming what is wrong", "[s
                     Catch::Contains("admissible range"));
   CHECK_THROWS_WITH(load_fit_command_settings(settings(ok_data, "{parameters: [S], cfl: 2}")), Catch::Contains("cfl"));
   CHECK_THROWS_WITH(load_fit_command_settings(settings("{}", "{parameters: [S]}")), Catch::Contains("give 'fields'"));
+  CHECK_THROWS_WITH(load_fit_command_settings(settings("{fields: fields.csv, min_solid_fraction: 1.5}", "{parameters: [S]}")),
+                    Catch::Contains("data.min_solid_fraction"));
+  CHECK_THROWS_WITH(load_fit_command_settings(settings("{coverage: coverage.csv, min_solid_fraction: 0.3}", "{parameters: [kappa]}")),
+                    Catch::Contains("fields' data only"));
   CHECK_THROWS_WITH(load_fit_command_settings(settings("{fields: nowhere.csv}", "{parameters: [S]}")),
                     Catch::Contains("cannot find") && Catch::Contains("nowhere.csv"));
   CHECK_THROWS_WITH(load_fit_command_settings(settings(ok_data, "{parameters: [S]}", "colour: red\n")),
