@@ -147,10 +147,16 @@ CgSummary run_coarse_graining(const CgSettings& s) {
   Moments window;
   PhaseAverage phases(s.averaging == Averaging::phase ? s.phase_bins : 1);
   std::map<long, Moments> cycles;  // cycle index k -> the sum over its snapshots
+  std::vector<std::string> used;   // the snapshots in [from, to]
   const FieldOptions& options = s.surface;
 
   for (std::size_t n = 0; n < s.snapshots.size(); ++n) {
     const dem::Snapshot snap = n == 0 ? first : dem::read_snapshot(s.snapshots[n].path);
+    // averaging.from/to: a time range of the run (the motion, not the pour), to round-off in the
+    // snapshots' times.
+    const double slack = 1e-9 * std::max(1.0, std::abs(snap.time));
+    if (snap.time < s.from - slack || snap.time > s.to + slack) continue;
+    used.push_back(s.snapshots[n].path);
     const CgParticles p = container_particles(snap, container_pose(snap, s.container_wall), species);
     const Moments m = coarse_grain(p, species.size(), grid, kernel);
     summary.max_mass_error = std::max(summary.max_mass_error, mass_error(m, p, grid));
@@ -196,6 +202,9 @@ CgSummary run_coarse_graining(const CgSettings& s) {
     congregation_csv.row({snap.time, ci.left, ci.right, ci.mean, ci.spread, ci.share_left, ci.share_right, ci.coverage_left,
                           ci.coverage_centre, ci.coverage_right, ci.coverage_ratio, view.coverage()});
   }
+  if (summary.times.empty()) {
+    throw InputError(s.source + ": averaging.from/to: no snapshot lies in [" + std::to_string(s.from) + ", " + std::to_string(s.to) + "] s");
+  }
   if (s.averaging == Averaging::window) {
     window.average();
     frames.push_back({derive_fields(window, grid, species, options), "window", 0, 0});
@@ -220,7 +229,7 @@ CgSummary run_coarse_graining(const CgSettings& s) {
                        std::to_string(s.snapshots.size()) + " given");
     }
   }
-  summary.snapshots = static_cast<int>(s.snapshots.size());
+  summary.snapshots = static_cast<int>(summary.times.size());
   summary.frames = static_cast<int>(frames.size());
 
   FieldFileInfo info;
@@ -230,7 +239,7 @@ CgSummary run_coarse_graining(const CgSettings& s) {
   info.scale_factor = first.scale_factor;
   info.container_wall = s.container_wall;
   info.chaff_species = s.chaff;
-  for (const auto& e : s.snapshots) info.snapshots.push_back(e.path);
+  info.snapshots = used;
   info.max_mass_error = summary.max_mass_error;
   const fs::path out(s.output_dir);
   write_field_file((out / "fields.h5").string(), frames, info);

@@ -107,6 +107,9 @@ CgSettings load_cg_settings(const std::string& file) {
     s.phase_bins = static_cast<int>(a->integer_or("phase_bins", 8, 1, 1000));
     s.period = a->number_or("period", 0, Range::non_negative());
     s.t0 = a->number_or("t0", 0);
+    s.from = a->number_or("from", s.from);
+    s.to = a->number_or("to", s.to);
+    if (!(s.to > s.from)) throw InputError(a->where("to") + ": must be later than 'from'");
     if (s.averaging == Averaging::cycles && !(s.period > 0)) {
       throw InputError(a->where("period") + ": averaging by cycles needs the motion's period (s), > 0");
     }

@@ -3,6 +3,7 @@
 // keys are rejected, numbers are range-checked, errors name file, line and key). The keys are listed
 // with their ranges and defaults in docs/coarsegrain_layout.md ("Settings").
 #include <array>
+#include <limits>
 #include <map>
 #include <string>
 #include <vector>
@@ -40,6 +41,8 @@ struct CgSettings {
   int phase_bins = 8;
   double period = 0, t0 = 0;  // s; phase = (t - t0) / period where a snapshot has no phase;
                               // cycles: the k-th frame averages [t0 + k period, t0 + (k + 1) period)
+  double from = -std::numeric_limits<double>::infinity();  // s: snapshots outside [from, to] are skipped
+  double to = std::numeric_limits<double>::infinity();
   FieldOptions surface;
   double slice_width = 0.05, end_length = 0.1;
   TopViewSettings top_view;

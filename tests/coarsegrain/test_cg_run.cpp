@@ -292,6 +292,18 @@ TEST_CASE("Averaging by cycles gives one frame per whole motion cycle, the windo
   CHECK_THAT(std::stod(w.substr(row)), WithinAbs(0.375, 1e-9));
   CHECK_THAT(std::stod(c.substr(second)), WithinAbs(1.375, 1e-9));
 
+  // averaging.from/to pick a time range: the window over [0.9, 1.6] s holds the snapshots at 1,
+  // 1.25 and 1.5 s (mean time 1.25 s).
+  write_text(dir / "range.yaml", "snapshots:\n" + all + common + "averaging: {mode: window, from: 0.9, to: 1.6}\noutput: range\n");
+  const CgSummary range = run_coarse_graining(load_cg_settings(dir / "range.yaml"));
+  CHECK(range.snapshots == 3);
+  const std::string r = slurp(dir / "range/fields.csv");
+  CHECK_THAT(std::stod(r.substr(r.find('\n') + 1)), WithinAbs(1.25, 1e-9));
+  write_text(dir / "none.yaml", "snapshots:\n" + all + common + "averaging: {mode: window, from: 5}\noutput: none\n");
+  REQUIRE_THROWS_WITH(run_coarse_graining(load_cg_settings(dir / "none.yaml")), Catch::Contains("no snapshot lies in"));
+  write_text(dir / "back.yaml", "snapshots:\n" + all + common + "averaging: {mode: window, from: 2, to: 1}\noutput: back\n");
+  REQUIRE_THROWS_WITH(load_cg_settings(dir / "back.yaml"), Catch::Contains("averaging.to"));
+
   // Without a whole cycle (t0 after the last full one) it is a clear error naming the period.
   write_text(dir / "late.yaml", "snapshots:\n" + all + common + "averaging: {mode: cycles, period: 1.0, t0: 2.0}\noutput: late\n");
   REQUIRE_THROWS_WITH(run_coarse_graining(load_cg_settings(dir / "late.yaml")), Catch::Contains("no whole cycle"));
