@@ -174,9 +174,10 @@ CgSummary run_coarse_graining(const CgSettings& s) {
         break;
       }
       case Averaging::cycles: {
-        // Cycle k is [t0 + kT, t0 + (k + 1)T); a snapshot on a boundary (up to round-off in its
-        // time) opens the next cycle. Snapshots before t0 belong to no cycle.
-        const double k = std::floor((snap.time - s.t0) / s.period + 1e-6);
+        // Cycle k is [t0 + kT, t0 + (k + 1)T); a snapshot on a boundary opens the next cycle, also
+        // when it is up to 0.1 % of a cycle early (the DEM writes a snapshot at a step near its
+        // time, not at it). Snapshots before t0 belong to no cycle.
+        const double k = std::floor((snap.time - s.t0) / s.period + 1e-3);
         if (k < 0) break;
         auto [it, fresh] = cycles.try_emplace(static_cast<long>(k), m);
         if (!fresh) it->second.add(m);

@@ -261,13 +261,14 @@ TEST_CASE("Averaging by cycles gives one frame per whole motion cycle, the windo
   materials.set_pair(0, 0, {0.5, 0.3, 0.01, true});
   dem::SimulationSettings st;
   st.gravity = {0, 0, 0};
-  st.time_step = 0.005;
+  st.time_step = 0.0005;
   dem::Simulation sim(materials, st);
   sim.add_sphere(0, 0.002, {0.02, 0.05, 0.02}, {0.1, 0, 0});
   sim.setup();
   std::string all, first_cycle;
   for (int k = 0; k < 10; ++k) {
-    while (sim.time() < 0.25 * k - 1e-9) sim.step();
+    // Snapshots a little early, as a DEM's at the step nearest their time (1 s at 0.9995 s).
+    while (sim.time() < 0.25 * k - 0.0005 - 1e-9) sim.step();
     const std::string name = "snap_" + std::to_string(k) + ".h5";
     dem::write_snapshot(sim, dir / name, {"cycles test", 1});
     all += "  - {path: " + name + "}\n";
@@ -284,13 +285,13 @@ TEST_CASE("Averaging by cycles gives one frame per whole motion cycle, the windo
   run_coarse_graining(load_cg_settings(dir / "window.yaml"));
 
   // The first cycle's frame is the window average of snapshots 0-3: the same rows, bit for bit,
-  // at their mean time 0.375 s; the second frame is at 1.375 s.
+  // at their mean time (0.375 s less the snapshots' lead); the second frame is a second later.
   const std::string c = slurp(dir / "cycles/fields.csv"), w = slurp(dir / "window/fields.csv");
   REQUIRE(c.size() > w.size());
   CHECK(c.substr(0, w.size()) == w);
   const std::size_t row = w.find('\n') + 1, second = w.size();
-  CHECK_THAT(std::stod(w.substr(row)), WithinAbs(0.375, 1e-9));
-  CHECK_THAT(std::stod(c.substr(second)), WithinAbs(1.375, 1e-9));
+  CHECK_THAT(std::stod(w.substr(row)), WithinAbs(0.375 - 0.0005 * 3 / 4, 1e-9));  // the first at 0 s exactly
+  CHECK_THAT(std::stod(c.substr(second)), WithinAbs(1.375 - 0.0005, 1e-9));
 
   // averaging.from/to pick a time range: the window over [0.9, 1.6] s holds the snapshots at 1,
   // 1.25 and 1.5 s (mean time 1.25 s).
@@ -298,7 +299,7 @@ TEST_CASE("Averaging by cycles gives one frame per whole motion cycle, the windo
   const CgSummary range = run_coarse_graining(load_cg_settings(dir / "range.yaml"));
   CHECK(range.snapshots == 3);
   const std::string r = slurp(dir / "range/fields.csv");
-  CHECK_THAT(std::stod(r.substr(r.find('\n') + 1)), WithinAbs(1.25, 1e-9));
+  CHECK_THAT(std::stod(r.substr(r.find('\n') + 1)), WithinAbs(1.25 - 0.0005, 1e-9));
   write_text(dir / "none.yaml", "snapshots:\n" + all + common + "averaging: {mode: window, from: 5}\noutput: none\n");
   REQUIRE_THROWS_WITH(run_coarse_graining(load_cg_settings(dir / "none.yaml")), Catch::Contains("no snapshot lies in"));
   write_text(dir / "back.yaml", "snapshots:\n" + all + common + "averaging: {mode: window, from: 2, to: 1}\noutput: back\n");
