@@ -56,6 +56,8 @@ class NeighborList {
   /// elsewhere (the force field's contact flags) know when to rebuild itself.
   std::uint64_t generation() const { return generation_; }
   double skin() const { return skin_; }
+  /// Edge of the cells of the last sort_by_cell (2 r_max + skin unless a sparse cloud widened them).
+  double cell_size() const { return cell_; }
 
   /// The list as built, in CSR form (entries of slot i are [starts()[i], starts()[i+1])), and each
   /// entry's contact history: what a checkpoint stores (dem/checkpoint.hpp).
@@ -83,6 +85,7 @@ class NeighborList {
   std::vector<std::uint32_t> cell_start_;  // particles of cell c are slots [cell_start_[c], cell_start_[c+1])
   std::vector<int> cell_index_;            // per old slot, during sort
   std::vector<std::uint32_t> order_;       // new_to_old
+  std::vector<double> scratch_;            // one coordinate per particle, for the core's percentiles
 
   std::vector<std::uint32_t> start_, partner_, count_;
   std::vector<ContactHistory> history_;

@@ -108,6 +108,32 @@ TEST_CASE("Neighbour list equals brute force whichever axis is thin or long", "[
   omp_set_num_threads(2);
 }
 
+TEST_CASE("Strays far from the bed neither change the list nor coarsen the cells", "[dem][neighbor]") {
+  // Grains thrown out of an open box fall away: 30 m below the bed two of them touch, one is alone
+  // 1 km to the side. The list still equals brute force (the strays' pair included), and the cells
+  // keep their natural size: widening them to span the strays made a 3,600-sphere run 100x slower.
+  const testing::ParallelEverything guard;
+  const int threads = GENERATE(1, 2);
+  omp_set_num_threads(threads);
+  const double skin = 0.001;
+  Particles p = random_particles(2000, 0.15, 5);
+  p.add_sphere(5000, 0, 0.004, 1000, {0.07, 0.05, -30.0});
+  p.add_sphere(5001, 0, 0.004, 1000, {0.075, 0.05, -30.004});
+  p.add_sphere(5002, 0, 0.004, 1000, {1000.0, 0.05, 0.02});
+  NeighborList nl;
+  rebuild(p, nl, skin);
+  const PairSet pairs = listed(p, nl);
+  CHECK(pairs == brute_force(p, skin));
+  CHECK(pairs.count({5000, 5001}) == 1);
+  double r_max = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) r_max = std::max(r_max, p.radius[i]);
+  CHECK(nl.cell_size() == 2 * r_max + skin);
+  // Moved a little and rebuilt (the strays are now mid-list in slot order): still exact.
+  for (std::size_t i = 0; i < p.size(); ++i) p.x[i].z += 1e-4 * static_cast<double>(i % 7);
+  rebuild(p, nl, skin);
+  CHECK(listed(p, nl) == brute_force(p, skin));
+}
+
 TEST_CASE("Contact histories follow their pair through reordering rebuilds", "[dem][neighbor]") {
   const double skin = 0.001;
   Particles p = random_particles(1500, 0.12, 9);
