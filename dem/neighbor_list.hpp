@@ -10,6 +10,9 @@
 // * The list is a half list stored as CSR: pair {a, b} is stored once, under the particle with the
 //   smaller id, if |x_a - x_b| < r_a + r_b + skin and a, b belong to different bodies. Keying ownership on id (not slot) means a pair
 //   keeps its owner and the sign of its history across renumbering.
+// * Strays (grains thrown out of an open container, falling away) do not stretch the grid: when the
+//   bounding box would need more than 8 cells per particle, the grid covers the 1st-99th percentile
+//   of the positions on each axis and the rest fall into its edge cells; the list stays exact.
 // * It stays valid until some particle has moved more than skin/2 since the build.
 // * Each entry carries the contact history; a rebuild carries histories over to the new entries.
 // * A reverse CSR lists, for every particle, the entries where it is the partner, so forces can be
