@@ -7,6 +7,7 @@
 #include "continuum/analytic_flows.hpp"
 #include "continuum/depth_averaged.hpp"
 #include "continuum/gridded_flow.hpp"
+#include "continuum/initial_from_fields.hpp"
 #include "continuum/phase_resolved_flow.hpp"
 #include "continuum/term_registry.hpp"
 #include "dem/input_error.hpp"
@@ -78,9 +79,14 @@ void read_flow(YamlMap m, ContinuumSettings& s) {
 }
 
 void read_initial(YamlMap m, ContinuumSettings& s) {
-  s.initial.type = m.choice("type", {"uniform", "layers"});
+  s.initial.type = m.choice("type", {"uniform", "layers", "file"});
   if (s.initial.type == "uniform") {
     s.initial.value = m.number("value", Range::closed(0, 1));
+  } else if (s.initial.type == "file") {
+    s.initial.file = resolve_beside(s.source_file, m.string("file"));
+    if (!std::filesystem::exists(s.initial.file)) throw InputError(m.where("file") + ": cannot find '" + s.initial.file + "'");
+    s.initial.frame = static_cast<int>(m.integer_or("frame", 0, -1000000, 1000000));
+    s.initial.min_solid_fraction = m.number_or("min_solid_fraction", 0.3, Range::closed(0, 1));
   } else {
     s.initial.below = m.number("below", Range::closed(0, 1));
     s.initial.above = m.number("above", Range::closed(0, 1));
@@ -220,6 +226,7 @@ Model build_model(const ContinuumSettings& s) {
 }
 
 std::vector<double> initial_field(const ContinuumSettings& s, const Grid& g) {
+  if (s.initial.type == "file") return initial_from_cg_frame(s.initial.file, s.initial.frame, s.initial.min_solid_fraction, g);
   std::vector<double> c(g.cells(), s.initial.value);
   if (s.initial.type == "layers") {
     for (int i = 0; i < g.nx(); ++i) {

@@ -33,10 +33,13 @@ struct FlowSettings {
 };
 
 struct InitialSettings {
-  std::string type = "uniform";  // uniform | layers
+  std::string type = "uniform";  // uniform | layers | file
   double value = 0;              // uniform
   double below = 0, above = 0;   // layers: c below and above σ = split
   double split = 0.5;
+  std::string file;              // file: a cg fields.h5 (initial_from_fields.hpp)
+  int frame = 0;                 //   its frame (negative counts from the end)
+  double min_solid_fraction = 0.3;  // its cells below this solid fraction are not bed
 };
 
 struct ContinuumSettings {

@@ -209,6 +209,7 @@ std::string fit_yaml(const FitCommandSettings& s, const FitCommandSummary& sum, 
     << "  coverage: " << quoted(s.data.coverage) << "\n"
     << "  t0: " << g(s.t0) << "\n"
     << "  min_solid_fraction: " << g(s.data.min_solid_fraction) << "\n"
+    << "  from: " << g(s.data.from) << "\n"
     << "  times: " << yaml_list(data.times) << "\n"
     << "  field_rows: " << data.field_rows << "\n"
     << "  field_cells: " << data.fields.size() << "   # (time, cell) values after combining rows per nearest cell\n"
@@ -293,6 +294,7 @@ FitCommandSettings load_fit_command_settings(const std::string& file) {
     if (d.has("coverage")) s.data.coverage = existing(d, "coverage", resolve_beside(file, d.string("coverage")));
     if (d.has("coverage_sigma")) s.data.coverage_sigma = d.number("coverage_sigma", Range::positive());
     s.t0 = d.number_or("t0", 0.0, Range::non_negative());
+    s.data.from = d.number_or("from", 0.0, Range::non_negative());
     if (d.has("min_solid_fraction")) {
       if (s.data.fields.empty()) throw InputError(d.where("min_solid_fraction") + ": applies to 'fields' data only");
       s.data.min_solid_fraction = d.number("min_solid_fraction", Range::closed(0, 1));

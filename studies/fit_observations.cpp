@@ -26,7 +26,7 @@ struct Rows {
 
 /// The rows with a finite value, checked; `z_column` empty for coverage.
 Rows read_rows(const std::string& file, const std::string& value_column, bool with_z, std::optional<double> default_sigma,
-               bool& sigma_known, double min_solid_fraction = 0) {
+               bool& sigma_known, double min_solid_fraction, double from) {
   const NumericCsv csv = NumericCsv::load(file);
   if (min_solid_fraction > 0 && !csv.has("phi")) {
     throw InputError(file + ": data.min_solid_fraction needs a 'phi' column (the solid volume fraction; a grainscale cg fields.csv has one)");
@@ -42,6 +42,7 @@ Rows read_rows(const std::string& file, const std::string& value_column, bool wi
   for (std::size_t k = 0; k < csv.rows(); ++k) {
     if (std::isnan(v[k])) continue;  // no data here
     if (!(phi[k] >= min_solid_fraction)) continue;  // above the bed (or no solid): not data
+    if (t[k] < from) continue;                       // before data.from: not data
     const std::string where = file + ":" + std::to_string(csv.line(k)) + ": ";
     if (!std::isfinite(v[k])) throw InputError(where + value_column + " must be finite or nan");
     if (!std::isfinite(t[k]) || !std::isfinite(x[k]) || !std::isfinite(z[k])) {
@@ -96,8 +97,8 @@ Observations map_observations(const ObservationFiles& files, const continuum::Gr
   Observations obs;
   bool field_sigma = true, coverage_sigma = true;
   Rows fields, coverage;
-  if (!files.fields.empty()) fields = read_rows(files.fields, "c", true, files.field_sigma, field_sigma, files.min_solid_fraction);
-  if (!files.coverage.empty()) coverage = read_rows(files.coverage, "coverage", false, files.coverage_sigma, coverage_sigma);
+  if (!files.fields.empty()) fields = read_rows(files.fields, "c", true, files.field_sigma, field_sigma, files.min_solid_fraction, files.from);
+  if (!files.coverage.empty()) coverage = read_rows(files.coverage, "coverage", false, files.coverage_sigma, coverage_sigma, 0, files.from);
   if (!files.fields.empty() && !files.coverage.empty() && !(field_sigma && coverage_sigma)) {
     throw InputError("fit data: with both fields and coverage, give each a sigma (a sigma column or the sigma key): "
                      "their relative weight in the fit depends on it");

@@ -27,6 +27,9 @@ struct ObservationFiles {
   /// is below this are not data: above a bed's surface the kernel still sees a few grains, and c
   /// there is noise. 0: every row.
   double min_solid_fraction = 0;
+  /// Rows (fields and coverage) before this time [s] are not data, e.g. the frame a model starts
+  /// from (`initial: {type: file}`, docs/continuum.md) when the data file holds it too. 0: every row.
+  double from = 0;
 };
 
 /// One value on the grid: a cell (fields) or a column (coverage) at one of the times.

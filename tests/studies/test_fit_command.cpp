@@ -156,6 +156,12 @@ TEST_CASE("Fit data go to their nearest cell and combine by inverse variance", "
   CHECK(bed.fields[0].value == 0.2);
   files.min_solid_fraction = 0;
   CHECK(map_observations(files, g, 0.0).field_rows == 3);
+  // data.from: rows before it are not data (here all rows are at t = 10 s).
+  files.from = 10;
+  CHECK(map_observations(files, g, 0.0).field_rows == 3);
+  files.from = 10.5;
+  CHECK_THROWS_WITH(map_observations(files, g, 0.0), Catch::Contains("no finite values"));
+  files.from = 0;
   files.min_solid_fraction = 0.3;
   files.fields = (dir / "ok.csv").string();  // no phi column
   CHECK_THROWS_WITH(map_observations(files, g, 0.0), Catch::Contains("ok.csv") && Catch::Contains("'phi' column"));
