@@ -434,6 +434,26 @@ TEST_CASE("Motion facts of the report's platform come from the DEM scenario", "[
   CHECK_THROWS_AS(motion_facts(std::string(GRAINSCALE_SOURCE_DIR) + "/studies/platform_box_demo.yaml", "lid"), InputError);
 }
 
+TEST_CASE("The lever-arm DEM pair differs only in where the axis is", "[studies][loop]") {
+  // studies/loop_lever_arm/ (docs/loop.md): +-35 deg as a 0.5 Hz cosine, no pauses:
+  // <omega^2> = (2 pi f A)^2 / 2; the axis 0.8 m left of the box or under its floor's centre.
+  const std::string dir = std::string(GRAINSCALE_SOURCE_DIR) + "/studies/loop_lever_arm/";
+  const MotionFacts off = motion_facts(dir + "off_axis.yaml", "box"), on = motion_facts(dir + "on_axis.yaml", "box");
+  const double A = 35 * M_PI / 180, w = 2 * M_PI * 0.5 * A;
+  for (const MotionFacts* f : {&off, &on}) {
+    CHECK(f->period == Approx(2.0));
+    CHECK(f->omega2_mean == Approx(w * w / 2).epsilon(1e-3));
+    CHECK(f->pause_fraction == Approx(0).margin(1e-3));
+    CHECK(f->peak_angle_deg == Approx(35).epsilon(1e-3));
+    CHECK(f->axis_z == Approx(0).margin(1e-12));
+  }
+  CHECK(off.axis_x == Approx(-0.8));
+  CHECK(on.axis_x == Approx(0.1));
+  // The cycle-mean centrifugal acceleration along the box, as a fraction of g (the scenario's header).
+  CHECK(off.omega2_mean * 0.8 / 9.81 == Approx(0.150).margin(0.002));
+  CHECK(off.omega2_mean * 1.0 / 9.81 == Approx(0.188).margin(0.002));
+}
+
 TEST_CASE("A fields file that is not a grainscale cg HDF5 file is an input error", "[studies][loop]") {
   const fs::path dir = scratch("h5");
   write(dir / "fields.h5", "not hdf5");
