@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "hdf5_writer_fixture.hpp"
 #include "continuum/gridded_flow.hpp"
 #include "dem/input_error.hpp"
 
@@ -18,21 +19,8 @@ using Catch::Matchers::WithinAbs;
 
 namespace {
 
-void dataset(hid_t loc, const char* name, const std::vector<hsize_t>& dims, const std::vector<double>& v) {
-  const hid_t space = H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr);
-  const hid_t set = H5Dcreate2(loc, name, H5T_IEEE_F64LE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-  H5Dwrite(set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data());
-  H5Dclose(set);
-  H5Sclose(space);
-}
-
-void int_attribute(hid_t loc, const char* name, int v) {
-  const hid_t space = H5Screate(H5S_SCALAR);
-  const hid_t a = H5Acreate2(loc, name, H5T_STD_I32LE, space, H5P_DEFAULT, H5P_DEFAULT);
-  H5Awrite(a, H5T_NATIVE_INT, &v);
-  H5Aclose(a);
-  H5Sclose(space);
-}
+using grainscale::testing::attribute;
+using grainscale::testing::dataset;
 
 /// A cg field file on a 2-D grid of nx x nz cells over [0, 0.8] x [0, 0.2]: a shear layer
 /// u = g (z - h/2) with shear rate g below a flat surface h; the first column is empty (h NaN).
@@ -40,9 +28,9 @@ std::string write_cg_file(double g, double h, int frames) {
   const std::string path = (std::filesystem::temp_directory_path() / "grainscale_test_cg_fields.h5").string();
   const int nx = 16, nz = 10;
   const hid_t f = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
-  int_attribute(f, "cg_layout_version", 1);
+  attribute(f, "cg_layout_version", 1);
   const hid_t grid = H5Gcreate2(f, "grid", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-  int_attribute(grid, "dimension", 2);
+  attribute(grid, "dimension", 2);
   std::vector<double> x(nx), z(nz);
   for (int j = 0; j < nx; ++j) x[j] = 0.8 * (j + 0.5) / nx;
   for (int k = 0; k < nz; ++k) z[k] = 0.2 * (k + 0.5) / nz;
@@ -50,7 +38,7 @@ std::string write_cg_file(double g, double h, int frames) {
   dataset(grid, "z", {static_cast<hsize_t>(nz)}, z);
   H5Gclose(grid);
   const hid_t fr = H5Gcreate2(f, "frames", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-  int_attribute(fr, "count", frames);
+  attribute(fr, "count", frames);
   for (int n = 0; n < frames; ++n) {
     char name[16];
     std::snprintf(name, sizeof name, "%06d", n);

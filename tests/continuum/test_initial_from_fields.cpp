@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "hdf5_writer_fixture.hpp"
 #include "continuum/grid.hpp"
 #include "continuum/initial_from_fields.hpp"
 #include "continuum/settings.hpp"
@@ -21,21 +22,8 @@ using Catch::Matchers::Contains;
 
 namespace {
 
-void dataset(hid_t loc, const char* name, const std::vector<hsize_t>& dims, const std::vector<double>& v) {
-  const hid_t space = H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr);
-  const hid_t set = H5Dcreate2(loc, name, H5T_IEEE_F64LE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-  H5Dwrite(set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data());
-  H5Dclose(set);
-  H5Sclose(space);
-}
-
-void int_attribute(hid_t loc, const char* name, int v) {
-  const hid_t space = H5Screate(H5S_SCALAR);
-  const hid_t a = H5Acreate2(loc, name, H5T_STD_I32LE, space, H5P_DEFAULT, H5P_DEFAULT);
-  H5Awrite(a, H5T_NATIVE_INT, &v);
-  H5Aclose(a);
-  H5Sclose(space);
-}
+using grainscale::testing::attribute;
+using grainscale::testing::dataset;
 
 // Cells of 20 x 2 x 10 mm: x_j = 0.01 + 0.02 j (10 columns), two y cells, z_k = 0.005 + 0.01 k
 // (5 layers). c = 0.1 + x + 2 z, +-0.02 in the two y cells; the bed (phi 0.6) fills the lower
@@ -46,9 +34,9 @@ std::string write_frame_file() {
   const std::string path = (std::filesystem::temp_directory_path() / "grainscale_test_initial_fields.h5").string();
   const int nx = 10, ny = 2, nz = 5;
   const hid_t f = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
-  int_attribute(f, "cg_layout_version", 1);
+  attribute(f, "cg_layout_version", 1);
   const hid_t grid = H5Gcreate2(f, "grid", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-  int_attribute(grid, "dimension", 2);
+  attribute(grid, "dimension", 2);
   std::vector<double> x(nx), y(ny, 0.01), z(nz);
   for (int j = 0; j < nx; ++j) x[j] = 0.01 + 0.02 * j;
   for (int k = 0; k < nz; ++k) z[k] = 0.005 + 0.01 * k;
@@ -57,7 +45,7 @@ std::string write_frame_file() {
   dataset(grid, "z", {nz}, z);
   H5Gclose(grid);
   const hid_t frames = H5Gcreate2(f, "frames", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-  int_attribute(frames, "count", 1);
+  attribute(frames, "count", 1);
   const hid_t one = H5Gcreate2(frames, "000000", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
   const hid_t mix = H5Gcreate2(one, "mixture", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
   const double nan = std::numeric_limits<double>::quiet_NaN();
