@@ -47,6 +47,7 @@ std::string write_frame_file() {
   const hid_t frames = H5Gcreate2(f, "frames", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
   attribute(frames, "count", 1);
   const hid_t one = H5Gcreate2(frames, "000000", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  attribute(one, "time", 2.95);
   const hid_t mix = H5Gcreate2(one, "mixture", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
   const double nan = std::numeric_limits<double>::quiet_NaN();
   std::vector<double> c(nz * ny * nx), phi(nz * ny * nx);
