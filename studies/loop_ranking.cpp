@@ -3,6 +3,7 @@
 #include <chrono>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "dem/input_error.hpp"
 
@@ -24,21 +25,28 @@ void set(Model& m, SurfaceCoverage& o, const std::string& name, double v) {
   else m.set_parameter(name, v);
 }
 
-/// The admissible range of a parameter ("term.name", a name unique among the terms, or
-/// "observation.name").
-std::pair<double, double> admissible(const Model& m, const SurfaceCoverage& o, const std::string& name) {
+/// A parameter ("term.name", a name unique among the terms, or "observation.name"): its
+/// admissible and prior ranges; nullptr if the model has none of that name.
+const continuum::Parameter* find_parameter(const Model& m, const SurfaceCoverage& o, const std::string& name) {
   if (is_observation(name)) {
     for (const auto& p : o.parameters().all())
-      if (p.name == name.substr(12)) return {p.valid_lo, p.valid_hi};
+      if (p.name == name.substr(12)) return &p;
   }
   const auto dot = name.find('.');
   const std::string term = dot == std::string::npos ? "" : name.substr(0, dot), par = name.substr(dot == std::string::npos ? 0 : dot + 1);
   for (const continuum::FluxTerm* t : m.terms()) {
     if (!term.empty() && t->name() != term) continue;
     for (const auto& p : t->parameters().all())
-      if (p.name == par) return {p.valid_lo, p.valid_hi};
+      if (p.name == par) return &p;
   }
-  return {-INFINITY, INFINITY};
+  return nullptr;
+}
+
+/// The admissible range of a parameter.
+std::pair<double, double> admissible(const Model& m, const SurfaceCoverage& o, const std::string& name) {
+  const continuum::Parameter* p = find_parameter(m, o, name);
+  if (!p) return {-INFINITY, INFINITY};
+  return {p->valid_lo, p->valid_hi};
 }
 
 /// The observations of block `held_out` (held = true) or of every other block (held = false).
@@ -143,6 +151,18 @@ Evaluation evaluate(const std::string& name, const ModelFactory& factory, const 
         ev.warnings.push_back(parameters[j] + " ran to " + std::to_string(ev.values[j]) + ": the data do not need it");
       } else if (!(ev.standard_errors[j] < ev.values[j])) {
         ev.warnings.push_back(parameters[j] + ": standard error not below the value (unconstrained)");
+      }
+      // Far outside the range expected of granular beds (docs/continuum.md, docs/loop.md): the fit
+      // may be right, but the value asks for a physical reason before it is believed. A warning
+      // only: the priors are not bounds (the validated clustering strength lies above its prior).
+      const continuum::Parameter* p = find_parameter(model, obs, parameters[j]);
+      const double v = ev.values[j];
+      if (p && p->prior_hi > 0 && !ev.at_bound[j] && (v > 3 * p->prior_hi || v < p->prior_lo / 3) && v / start[j] > 1e-6) {
+        char b[160];
+        std::snprintf(b, sizeof b, "%s = %.3g is %.3gx %s its prior range (%.3g to %.3g): ask what makes it so %s", parameters[j].c_str(), v,
+                      v > p->prior_hi ? v / p->prior_hi : p->prior_lo / v, v > p->prior_hi ? "above" : "below", p->prior_lo, p->prior_hi,
+                      v > p->prior_hi ? "strong" : "weak");
+        ev.warnings.push_back(b);
       }
     }
 
