@@ -2,6 +2,7 @@
 #include "dem/neighbor_list.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -53,10 +54,13 @@ const std::vector<std::uint32_t>& NeighborList::sort_by_cell(const Particles& p,
   // axis plus a cell, and let the particles beyond it fall into the edge cells (cell_of clamps).
   // Clamping moves no two points further apart on any axis, so pairs within range still lie in
   // adjacent cells: the list is exact, only the strays' own search is longer.
-  const auto grid_cells = [&](double c) {
-    return (std::floor((hi_x - lo_x) / c) + 1) * (std::floor((hi_y - lo_y) / c) + 1) * (std::floor((hi_z - lo_z) / c) + 1);
+  // Cells along x, y, z for cells of edge c over the current box (in double: a particle flung far
+  // away would overflow an int).
+  const auto cells_along = [&](double c) {
+    return std::array<double, 3>{std::floor((hi_x - lo_x) / c) + 1, std::floor((hi_y - lo_y) / c) + 1, std::floor((hi_z - lo_z) / c) + 1};
   };
-  if (grid_cells(cell_) > max_cells && n >= 100) {
+  const auto product = [](const std::array<double, 3>& f) { return f[0] * f[1] * f[2]; };
+  if (product(cells_along(cell_)) > max_cells && n >= 100) {
     const std::size_t k = n / 100;
     scratch_.resize(n);
     double* lo[3] = {&lo_x, &lo_y, &lo_z};
@@ -71,13 +75,11 @@ const std::vector<std::uint32_t>& NeighborList::sort_by_cell(const Particles& p,
       *hi[a] = std::min(*hi[a], q_hi + cell_);
     }
   }
-  // (Counted in double first: a particle flung far away would overflow an int.)
   // If even the core is too large a grid (a sparse cloud), widen the cells.
   for (;;) {
-    const double fx = std::floor((hi_x - lo_x) / cell_) + 1, fy = std::floor((hi_y - lo_y) / cell_) + 1,
-                 fz = std::floor((hi_z - lo_z) / cell_) + 1;
-    if (fx * fy * fz <= max_cells) {
-      const int counts[3] = {static_cast<int>(fx), static_cast<int>(fy), static_cast<int>(fz)};
+    const std::array<double, 3> f = cells_along(cell_);
+    if (product(f) <= max_cells) {
+      const int counts[3] = {static_cast<int>(f[0]), static_cast<int>(f[1]), static_cast<int>(f[2])};
       // Fewest cells fastest, most cells slowest (ties keep x, y, z order). An insertion sort of
       // three: std::stable_sort would allocate a buffer in the step loop.
       axis_[0] = 0, axis_[1] = 1, axis_[2] = 2;

@@ -158,11 +158,11 @@ Evaluation evaluate(const std::string& name, const ModelFactory& factory, const 
       const continuum::Parameter* p = find_parameter(model, obs, parameters[j]);
       const double v = ev.values[j];
       if (p && p->prior_hi > 0 && !ev.at_bound[j] && (v > 3 * p->prior_hi || v < p->prior_lo / 3) && v / start[j] > 1e-6) {
-        char b[160];
-        std::snprintf(b, sizeof b, "%s = %.3g is %.3gx %s its prior range (%.3g to %.3g): ask what makes it so %s", parameters[j].c_str(), v,
-                      v > p->prior_hi ? v / p->prior_hi : p->prior_lo / v, v > p->prior_hi ? "above" : "below", p->prior_lo, p->prior_hi,
-                      v > p->prior_hi ? "strong" : "weak");
-        ev.warnings.push_back(b);
+        const bool above = v > p->prior_hi;
+        char b[128];
+        std::snprintf(b, sizeof b, " = %.3g is %.3gx %s its prior range (%.3g to %.3g): ask what makes it so ", v,
+                      above ? v / p->prior_hi : p->prior_lo / v, above ? "above" : "below", p->prior_lo, p->prior_hi);
+        ev.warnings.push_back(parameters[j] + b + (above ? "strong" : "weak"));
       }
     }
 
