@@ -53,8 +53,8 @@ int int_attribute(hid_t obj, const char* name, int fallback) {
 /// shear_rate [nz][1][nx], h = surface_height [1][nx]. Columns the bed does not reach (h = 0 or
 /// NaN) are dropped; below a column's surface every value must be finite; above it (no grain) u and
 /// γ̇ are irrelevant and set to 0.
-void read_cg_fields(hid_t file, const std::string& path, int frame, std::vector<double>& x, std::vector<double>& z,
-                    std::vector<double>& u, std::vector<double>& rate, std::vector<double>& h) {
+void read_cg_fields(hid_t file, const std::string& path, int frame, double temperature_diameter, std::vector<double>& x,
+                    std::vector<double>& z, std::vector<double>& u, std::vector<double>& rate, std::vector<double>& h) {
   const hid_t grid = H5Gopen2(file, "/grid", H5P_DEFAULT);
   if (grid < 0) throw InputError(path + ": coarse-grained field file without '/grid'");
   const int dimension = int_attribute(grid, "dimension", 0);
@@ -79,7 +79,8 @@ void read_cg_fields(hid_t file, const std::string& path, int frame, std::vector<
     return dem::read_hdf5_doubles(file, path, n, dims);
   };
   const std::vector<double> vel = read_raw(f + "mixture/velocity", dv);
-  const std::vector<double> gam = read_raw(f + "shear_rate", dr);
+  const bool by_temperature = temperature_diameter > 0;
+  const std::vector<double> gam = read_raw(f + (by_temperature ? "mixture/temperature" : "shear_rate"), dr);
   const std::vector<double> hs = read_raw(f + "surface_height", dh);
   const std::size_t nx = xs.size(), nz = z.size();
   if (dv != std::vector<hsize_t>{nz, 1, nx, 3} || dr != std::vector<hsize_t>{nz, 1, nx} || dh != std::vector<hsize_t>{1, nx}) {
@@ -103,26 +104,27 @@ void read_cg_fields(hid_t file, const std::string& path, int frame, std::vector<
       const double uk = vel[(k * nx + j) * 3], gk = gam[k * nx + j];
       if (z[k] > hs[j]) continue;  // above the surface: no grain
       if (!std::isfinite(uk) || !std::isfinite(gk)) {
-        throw InputError(path + ": frame " + std::to_string(frame) + ": NaN velocity or shear rate below the surface at x = " +
+        throw InputError(path + ": frame " + std::to_string(frame) + ": NaN velocity, shear rate or temperature below the surface at x = " +
                          std::to_string(xs[j]) + " m, z = " + std::to_string(z[k]) + " m");
       }
       u[k * keep.size() + c] = uk;
-      rate[k * keep.size() + c] = std::max(gk, 0.0);
+      rate[k * keep.size() + c] = by_temperature ? std::sqrt(std::max(gk, 0.0)) / temperature_diameter : std::max(gk, 0.0);
     }
   }
 }
 
 }  // namespace
 
-GriddedFlow GriddedFlow::load(const std::string& path, double length, int frame) {
+GriddedFlow GriddedFlow::load(const std::string& path, double length, int frame, double temperature_diameter) {
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // errors are reported as InputError below
   const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
   if (file < 0) throw InputError(path + ": cannot open as HDF5");
   try {
     std::vector<double> x, z, u, r, h;
     if (H5Aexists(file, "cg_layout_version") > 0) {
-      read_cg_fields(file, path, frame, x, z, u, r, h);
+      read_cg_fields(file, path, frame, temperature_diameter, x, z, u, r, h);
     } else {
+      if (temperature_diameter > 0) throw InputError(path + ": mobility from the temperature needs a coarse-graining field file (`grainscale cg`)");
       std::vector<hsize_t> dx, dz, du, dr, dh;
       x = read_dataset(file, path, "/x", dx);
       z = read_dataset(file, path, "/z", dz);

@@ -19,8 +19,12 @@ class GriddedFlow final : public Flow {
  public:
   /// Read the HDF5 layout of docs/continuum.md, or a coarse-graining field file (fields.h5 of
   /// `grainscale cg`, 2-D grid; `frame` selects the frame, negative counts from the end); `length`
-  /// is the bed length L (walls at 0 and L).
-  static GriddedFlow load(const std::string& file, double length, int frame = -1);
+  /// is the bed length L (walls at 0 and L). `temperature_diameter` d > 0 (coarse-graining files
+  /// only): the rate returned as shear_rate() is sqrt(T) / d from the mixture's granular temperature
+  /// T instead of the mean flow's γ̇. Kinetic theory's diffusivity d sqrt(T) is then the dense
+  /// rheology's γ̇ d² with γ̇ → sqrt(T)/d (Savage & Dai, Mech. Mater. 16 (1993) 225): agitation that
+  /// the cycle-mean flow does not see (a bed shaken back and forth) still mixes and segregates.
+  static GriddedFlow load(const std::string& file, double length, int frame = -1, double temperature_diameter = 0);
   GriddedFlow(double length, std::vector<double> x, std::vector<double> z, std::vector<double> u,
               std::vector<double> shear_rate, std::vector<double> surface_height);
 

@@ -21,6 +21,9 @@ struct FlowSettings {
   double shear_rate = 0;          // uniform_shear [1/s]
   std::string file;               // file: HDF5 fields (gridded_flow.hpp), resolved beside the YAML
   int frame = -1;                 // file from `grainscale cg`: frame to use (negative: from the end)
+  // file from `grainscale cg`: the rate the terms' mobility follows (gridded_flow.hpp): 0, the shear
+  // rate of the mean flow; > 0, sqrt(T) / d from the granular temperature T with d this diameter [m]
+  double temperature_diameter = 0;
   // file with `period`: phase-resolved fields (phase_resolved_flow.hpp), phase 0 at t0
   bool phase_resolved = false;
   double t0 = 0;                  // [s]

@@ -42,7 +42,7 @@ const std::vector<TermEntry>& term_registry() {
       {"background_diffusion", "∇·(D₀ ∇c)",
        [](YamlMap& m) { return with_parameters(std::make_unique<BackgroundDiffusion>(0.0), m); }},
       // Candidate effects of `grainscale loop` (docs/loop.md), with the parameters the loop fits.
-      {"lever_arm", "centrifugal part of g_eff off the rotation axis, drift −S γ̇ ⟨ω²⟩ r / g",
+      {"lever_arm", "cycle-mean lean of g_eff off the rotation axis (Euler and centrifugal), drift −S γ̇ a(x, z)",
        [](YamlMap& m) { return with_parameters(std::make_unique<LeverArm>(limiter(m)), m); }, {"S"}},
       {"surface_drift", "surface-layer drift of floating chaff to the ends, U sin(π(x/L − ½))",
        [](YamlMap& m) { return with_parameters(std::make_unique<SurfaceDrift>(limiter(m)), m); }, {"U"}},

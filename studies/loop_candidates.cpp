@@ -37,6 +37,7 @@ void add_candidate(const Candidate& c, continuum::Model& model, const MotionFact
   }
   if (motion) {
     const std::pair<const char*, double> facts[] = {{"omega2", motion->omega2_mean},
+                                                    {"alpha2", motion->alpha2_mean},
                                                     {"axis_x", motion->axis_x},
                                                     {"axis_z", motion->axis_z},
                                                     {"pause_fraction", motion->pause_fraction}};

@@ -26,7 +26,7 @@ std::vector<Candidate> candidate_library();
 std::vector<std::string> candidate_names();
 
 /// Add the candidate to a model built from the base settings (the term with its set parameters
-/// from `settings`, else from `motion` (omega2, axis_x, axis_z, pause_fraction) when given, else
+/// from `settings`, else from `motion` (omega2, alpha2, axis_x, axis_z, pause_fraction) when given, else
 /// its defaults; fitted parameters start at the geometric mean of their prior range unless set).
 /// The observation candidate changes nothing here (its parameter is already in `observation`).
 void add_candidate(const Candidate& c, continuum::Model& model, const MotionFacts* motion, const std::string& source);

@@ -37,17 +37,19 @@ MotionFacts cycle_facts(const dem::MotionProfile& m) {
   // Sample one cycle well after any start-up transition.
   const int n = 3600;
   const double t0 = 10 * f.period;
-  double sum = 0;
+  double sum = 0, sum_alpha = 0;
   int paused = 0;
   for (int j = 0; j < n; ++j) {
     const dem::RigidMotionState st = m.at(t0 + f.period * (j + 0.5) / n);
     const double w2 = dot(st.angular_velocity, st.angular_velocity);
     sum += w2;
+    sum_alpha += dot(st.angular_acceleration, st.angular_acceleration);
     paused += std::sqrt(w2) < 1e-6;
     const double angle = 2 * std::acos(std::min(1.0, std::abs(st.rotation.w))) * 180 / M_PI;
     f.peak_angle_deg = std::max(f.peak_angle_deg, angle);
   }
   f.omega2_mean = sum / n;
+  f.alpha2_mean = sum_alpha / n;
   f.pause_fraction = static_cast<double>(paused) / n;
   return f;
 }

@@ -235,7 +235,7 @@ std::vector<std::string> write_loop_outputs(const LoopSettings& s, const FitComm
     << ", sigma_known: " << (r.data.sigma_known ? "true" : "false") << "}\n";
   if (s.motion) {
     y << "motion: {scenario: " << quoted(s.scenario_file) << ", container: " << s.motion->container << ", period: " << g(s.motion->period)
-      << ", omega2_mean: " << g(s.motion->omega2_mean) << ", pause_fraction: " << g(s.motion->pause_fraction)
+      << ", omega2_mean: " << g(s.motion->omega2_mean) << ", alpha2_mean: " << g(s.motion->alpha2_mean) << ", pause_fraction: " << g(s.motion->pause_fraction)
       << ", axis_x: " << g(s.motion->axis_x) << ", axis_z: " << g(s.motion->axis_z) << ", peak_angle_deg: " << g(s.motion->peak_angle_deg)
       << "}\n";
   }
@@ -263,7 +263,7 @@ std::vector<std::string> write_loop_outputs(const LoopSettings& s, const FitComm
   if (s.motion) {
     m << "Motion (from `" << s.scenario_file << "`, wall `" << s.motion->container << "`): period " << s4(s.motion->period)
       << " s, peak tilt " << s4(s.motion->peak_angle_deg) << " deg, <omega^2> = " << s4(s.motion->omega2_mean)
-      << " 1/s^2, paused " << s4(100 * s.motion->pause_fraction) << " % of the cycle, rotation axis at x = "
+      << " 1/s^2, <alpha^2> = " << s4(s.motion->alpha2_mean) << " 1/s^4, paused " << s4(100 * s.motion->pause_fraction) << " % of the cycle, rotation axis at x = "
       << s4(s.motion->axis_x) << " m, z = " << s4(s.motion->axis_z) << " m in the container frame.\n\n";
   }
   m << "## Decision\n\n**" << (chosen ? "Added: " + chosen->name : std::string("Nothing added")) << ".** " << r.reason << ".\n\n";

@@ -139,7 +139,7 @@ std::string write_loop_study_report(const LoopStudySettings& s, const LoopStudyR
   if (ls.motion) {
     m << "Motion (from `" << ls.scenario_file << "`, wall `" << ls.motion->container << "`): period "
       << g(ls.motion->period) << " s, peak tilt " << g(ls.motion->peak_angle_deg, 3) << " deg, <omega^2> = "
-      << g(ls.motion->omega2_mean) << " 1/s^2, paused " << g(100 * ls.motion->pause_fraction, 3)
+      << g(ls.motion->omega2_mean) << " 1/s^2, <alpha^2> = " << g(ls.motion->alpha2_mean) << " 1/s^4, paused " << g(100 * ls.motion->pause_fraction, 3)
       << " % of the cycle, rotation axis at x = " << g(ls.motion->axis_x) << " m, z = " << g(ls.motion->axis_z)
       << " m in the container frame; it sets the lever-arm and pause candidates.\n\n";
   }

@@ -171,6 +171,7 @@ void apply_variant(const TrialVariant& v, HoldSettings& s, const MotionFacts& fa
       // The motion-derived parameters the term has, from this trial's motion.
       YAML::Node node(YAML::NodeType::Map);
       const std::pair<const char*, double> from_motion[] = {{"omega2", facts.omega2_mean},
+                                                            {"alpha2", facts.alpha2_mean},
                                                             {"axis_x", facts.axis_x},
                                                             {"axis_z", facts.axis_z},
                                                             {"pause_fraction", facts.pause_fraction}};

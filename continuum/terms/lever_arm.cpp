@@ -1,33 +1,54 @@
 #include "continuum/terms/lever_arm.hpp"
 
+#include <algorithm>
+
 namespace grainscale::continuum {
 
-namespace {
-constexpr double kGravity = 9.81;
-}
-
 LeverArm::LeverArm(Limiter limiter)
-    : FluxTerm("lever_arm", {{"S", "m", 0.0, 0.0, 1.0, 1e-4, 2e-2, "segregation length along the centrifugal part of g_eff (L1)"},
+    : FluxTerm("lever_arm", {{"S", "m", 0.0, 0.0, 1.0, 1e-4, 2e-2, "segregation length along the cycle-mean anomaly of g_eff (L1)"},
                              {"omega2", "1/s^2", 0.02, 0.0, 100.0, 0.0, 0.1, "cycle mean of ω² (from the motion)", true},
+                             {"alpha2", "1/s^4", 0.0, 0.0, 1e4, 0.0, 1.0, "cycle mean of α² (from the motion); 0: centrifugal part only", true},
                              {"axis_x", "m", -0.6, -1e4, 1e4, -1e4, 1e4, "rotation axis x in the container frame", true},
-                             {"axis_z", "m", -0.3, -1e4, 1e4, -1e4, 1e4, "rotation axis z in the container frame", true}}),
+                             {"axis_z", "m", -0.3, -1e4, 1e4, -1e4, 1e4, "rotation axis z in the container frame", true},
+                             {"mu", "-", 0.0, 0.0, 2.0, 0.0, 2.0, "static friction of the bed, tan of its repose angle (G2); 0: mean slope", true},
+                             {"rate", "1/s", 0.0, 0.0, 1e3, 0.0, 1e3, "mobility rate of the whole bed; 0: the local shear rate", true}}),
       limiter_(limiter) {}
 
+CycleMotion LeverArm::motion() const {
+  const ParameterSet& p = parameters();
+  return {p.get("omega2"), p.get("alpha2"), p.get("axis_x"), p.get("axis_z"), p.get("mu")};
+}
+
 std::pair<double, double> LeverArm::drift(double x, double z, double shear_rate) const {
-  const double k = -parameters().get("S") * shear_rate * parameters().get("omega2") / kGravity;
-  return {k * (x - parameters().get("axis_x")), k * (z - parameters().get("axis_z"))};
+  const auto [ax, az] = effective_gravity_anomaly(motion(), x, z);
+  const double rate = parameters().get("rate");
+  const double k = -parameters().get("S") * (rate > 0 ? rate : shear_rate);
+  return {k * ax, k * az};
+}
+
+const AnomalyTable& LeverArm::table(const Grid& g) const {
+  const auto& h = g.surface_nodes();
+  const double top = *std::max_element(h.begin(), h.end());
+  if (!(table_.motion() == motion()) || !table_.covers(0, g.length(), 0, top)) {
+    table_ = AnomalyTable(motion(), 0, g.length(), 0, 2 * top);
+  }
+  return table_;
 }
 
 DriftField LeverArm::field(const TermContext& ctx) const {
   const Grid& g = ctx.grid;
   const FaceCoefficients& faces = ctx.faces;
-  return {[this, &g, &faces](int f, int k) {
-            const double z = (k + 0.5) * g.dsigma() * g.h_node(f);
-            return x_face_drift(g, f, drift(g.x_face(f), z, faces.shear_x[x_face(g, f, k)]).first);
+  const AnomalyTable& a = table(g);
+  const double S = parameters().get("S"), rate = parameters().get("rate");
+  return {[&g, &faces, &a, S, rate](int f, int k) {
+            const double x = g.x_face(f), z = (k + 0.5) * g.dsigma() * g.h_node(f);
+            const double r = rate > 0 ? rate : faces.shear_x[x_face(g, f, k)];
+            return x_face_drift(g, f, -S * r * a.at(x, z).first);
           },
-          [this, &g, &faces](int i, int m) {
-            const auto [vx, vz] = drift(g.x_centre(i), g.sigma_face(m) * g.h_column(i), faces.shear_s[s_face(g, i, m)]);
-            return s_face_drift(g, i, m, vx, vz);
+          [&g, &faces, &a, S, rate](int i, int m) {
+            const auto [ax, az] = a.at(g.x_centre(i), g.sigma_face(m) * g.h_column(i));
+            const double k = -S * (rate > 0 ? rate : faces.shear_s[s_face(g, i, m)]);
+            return s_face_drift(g, i, m, k * ax, k * az);
           }};
 }
 

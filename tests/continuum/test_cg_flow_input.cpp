@@ -24,6 +24,7 @@ using grainscale::testing::dataset;
 
 /// A cg field file on a 2-D grid of nx x nz cells over [0, 0.8] x [0, 0.2]: a shear layer
 /// u = g (z - h/2) with shear rate g below a flat surface h; the first column is empty (h NaN).
+/// The granular temperature is T = (n + 1)² 1e-4 (1 + z / h) m²/s² in frame n.
 std::string write_cg_file(double g, double h, int frames) {
   const std::string path = (std::filesystem::temp_directory_path() / "grainscale_test_cg_fields.h5").string();
   const int nx = 16, nz = 10;
@@ -45,16 +46,18 @@ std::string write_cg_file(double g, double h, int frames) {
     const hid_t one = H5Gcreate2(fr, name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
     const hid_t mix = H5Gcreate2(one, "mixture", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
     const double nan = std::numeric_limits<double>::quiet_NaN();
-    std::vector<double> vel(nz * nx * 3, 0.0), rate(nz * nx), surface(nx, h);
+    std::vector<double> vel(nz * nx * 3, 0.0), rate(nz * nx), temperature(nz * nx), surface(nx, h);
     for (int k = 0; k < nz; ++k)
       for (int j = 0; j < nx; ++j) {
         const bool empty = j == 0 || z[k] > h;
         vel[(k * nx + j) * 3] = empty ? nan : (n + 1) * g * (z[k] - h / 2);
         rate[k * nx + j] = empty ? nan : (n + 1) * g;
+        temperature[k * nx + j] = empty ? nan : (n + 1) * (n + 1) * 1e-4 * (1 + z[k] / h);
       }
     surface[0] = nan;
     dataset(mix, "velocity", {static_cast<hsize_t>(nz), 1, static_cast<hsize_t>(nx), 3}, vel);
     dataset(one, "shear_rate", {static_cast<hsize_t>(nz), 1, static_cast<hsize_t>(nx)}, rate);
+    dataset(mix, "temperature", {static_cast<hsize_t>(nz), 1, static_cast<hsize_t>(nx)}, temperature);
     dataset(one, "surface_height", {1, static_cast<hsize_t>(nx)}, surface);
     H5Gclose(mix);
     H5Gclose(one);
@@ -65,6 +68,18 @@ std::string write_cg_file(double g, double h, int frames) {
 }
 
 }  // namespace
+
+TEST_CASE("Mobility from the granular temperature: the rate is sqrt(T) / d, the flow unchanged", "[continuum][flow]") {
+  const double g = 0.3, h = 0.1, d = 5e-3;
+  const std::string path = write_cg_file(g, h, 2);
+  const GriddedFlow by_shear = GriddedFlow::load(path, 0.8, 1);
+  const GriddedFlow by_temperature = GriddedFlow::load(path, 0.8, 1, d);
+  for (const double z : {0.03, 0.05}) {  // data levels (cell centres), so no interpolation between them
+    CHECK_THAT(by_temperature.shear_rate(0.4, z, 0), WithinAbs(std::sqrt(4e-4 * (1 + z / h)) / d, 1e-9));
+    CHECK_THAT(by_temperature.stream_function(0.4, z, 0), WithinAbs(by_shear.stream_function(0.4, z, 0), 1e-15));
+  }
+  std::filesystem::remove(path);
+}
 
 TEST_CASE("A coarse-grained field file is read as the flow: shear rate, surface, chosen frame", "[continuum][flow]") {
   const double g = 0.3, h = 0.1;

@@ -18,6 +18,7 @@
 #include "continuum/simulate.hpp"
 #include "continuum/term_registry.hpp"
 #include "continuum/terms/background_diffusion.hpp"
+#include "continuum/terms/lever_arm.hpp"
 #include "bed_fixture.hpp"
 
 using namespace grainscale;
@@ -100,6 +101,15 @@ TEST_CASE("Lever arm: the steady profile is logit c = -(k/D) |r - a|^2 / 2 + b",
   INFO("max error " << err);
   CHECK(err < 2e-3);
   CHECK(c[model.grid().index(0, 0)] > c[model.grid().index(39, 0)] + 0.3);  // chaff gathers towards the axis (x < 0)
+  // A whole-bed mobility rate replaces the local shear rate; with ⟨α²⟩ the drift follows (G2)–(G3).
+  const auto whole = term("lever_arm", "{S: 0.01, omega2: 0.1, axis_x: -0.6, axis_z: -0.3, rate: 3.0}");
+  const auto& lever = dynamic_cast<const LeverArm&>(*whole);
+  CHECK(lever.drift(0.1, 0.05, 0.2).first == Approx(-S * 3.0 * omega2 * 0.7 / 9.81).epsilon(1e-12));
+  const auto swung = term("lever_arm", "{S: 0.01, omega2: 1.84, alpha2: 18.2, axis_x: -0.8, axis_z: 0.0}");
+  const auto [lean_x, lean_z] = effective_gravity_anomaly({1.84, 18.2, -0.8, 0.0, 0.0}, 0.1, 0.02);
+  CHECK(dynamic_cast<const LeverArm&>(*swung).drift(0.1, 0.02, 0.5).first == Approx(-0.01 * 0.5 * lean_x).epsilon(1e-12));
+  CHECK(dynamic_cast<const LeverArm&>(*swung).drift(0.1, 0.02, 0.5).second == Approx(-0.01 * 0.5 * lean_z).epsilon(1e-12));
+  CHECK(lean_x < 0);  // the swing leans the bed towards the axis: chaff drifts away from it
 }
 
 TEST_CASE("Surface drift through the whole depth: logit c = -(U L / (pi D)) cos(pi (x/L - 1/2)) + b", "[continuum][loop]") {

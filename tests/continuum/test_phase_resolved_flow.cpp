@@ -221,4 +221,17 @@ output: {folder: out}
   CHECK_THROWS_WITH(load_continuum_settings(write("{type: file, file: " + file + ", period: 2.0, surface: wavy}",
                                                   "grid: {length: 0.4, nx: 20, nz: 6}")),
                     Contains("flow.surface"));
+  // Mobility from the temperature needs one frame and a diameter in range.
+  CHECK_THROWS_WITH(load_continuum_settings(write("{type: file, file: " + file + ", period: 2.0, mobility: temperature, diameter: 0.005}",
+                                                  "grid: {length: 0.4, nx: 20, nz: 6}")),
+                    Contains("flow.mobility") && Contains("single frame"));
+  CHECK_THROWS_WITH(load_continuum_settings(write("{type: file, file: " + file + ", frame: 0, mobility: temperature}",
+                                                  "grid: {length: 0.4, nx: 20, nz: 6}")),
+                    Contains("flow.diameter"));
+  CHECK_THROWS_WITH(load_continuum_settings(write("{type: file, file: " + file + ", frame: 0, mobility: temperature, diameter: 2}",
+                                                  "grid: {length: 0.4, nx: 20, nz: 6}")),
+                    Contains("flow.diameter"));
+  CHECK_THROWS_WITH(load_continuum_settings(write("{type: file, file: " + file + ", frame: 0, mobility: speed}",
+                                                  "grid: {length: 0.4, nx: 20, nz: 6}")),
+                    Contains("flow.mobility"));
 }
