@@ -487,7 +487,7 @@ std::string write_trial_report(const TrialPlanSettings& s, const TrialSweepResul
     m << "| " << v.name << " | " << (v.effect.empty() ? "none (base model)" : "`" + v.effect + "`") << " | "
       << (ps.empty() ? "as the base file" : ps) << " | " << v.origin << " |\n";
   }
-  m << "\nAn effect's motion-derived parameters (lever_arm: mean omega^2 and the axis; pause_creep: the pause "
+  m << "\nAn effect's motion-derived parameters (lever_arm: mean omega^2, mean alpha^2 and the axis; pause_creep: the pause "
     << "fraction) are taken from each trial's own motion. A variant's strength was fitted with the model and flow "
     << "of its loop run, not with this closure flow (see the limits).\n\n";
 
