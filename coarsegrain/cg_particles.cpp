@@ -80,4 +80,24 @@ CgParticles container_particles(const dem::Snapshot& snap, const ContainerPose& 
   return p;
 }
 
+std::vector<std::string> clump_volume_warnings(const dem::Snapshot& snap, const SpeciesTable& species, const std::string& source) {
+  std::unordered_map<std::uint64_t, int> spheres_of_body;
+  for (const std::uint64_t b : snap.body) ++spheres_of_body[b];
+  std::vector<bool> clumped(static_cast<std::size_t>(species.size()), false);
+  for (std::size_t k = 0; k < snap.body.size() && k < snap.material.size(); ++k) {
+    if (spheres_of_body[snap.body[k]] < 2) continue;
+    const int sp = species.index(snap.material_names[static_cast<std::size_t>(snap.material[k])]);
+    if (sp >= 0) clumped[static_cast<std::size_t>(sp)] = true;
+  }
+  std::vector<std::string> out;
+  for (std::size_t k = 0; k < clumped.size(); ++k) {
+    if (clumped[k] && !species.density.count(species.names[k])) {
+      out.push_back(source + ": species '" + species.names[k] + "' is made of clumps and has no 'density': its volume "
+                    "fraction counts the overlaps of each clump's spheres (too high), and so do concentrations by volume; "
+                    "give species." + species.names[k] + ".density (kg/m^3) for the exact clump volume");
+    }
+  }
+  return out;
+}
+
 }  // namespace grainscale::cg

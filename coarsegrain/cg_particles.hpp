@@ -55,4 +55,10 @@ struct CgParticles {
 /// hand-built set), every sphere is its own body.
 CgParticles container_particles(const dem::Snapshot& snap, const ContainerPose& pose, const SpeciesTable& species);
 
+/// Warnings for species whose bodies have several spheres and no `density`: their spheres get
+/// V_p = 4/3 π r³, so the volume fraction (and every concentration by volume) counts the overlaps
+/// inside a clump (a 7-sphere wheat clump's spheres hold about twice its volume). `source` names
+/// the settings file in the message.
+std::vector<std::string> clump_volume_warnings(const dem::Snapshot& snap, const SpeciesTable& species, const std::string& source);
+
 }  // namespace grainscale::cg

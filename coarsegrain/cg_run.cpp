@@ -133,6 +133,7 @@ CgSummary run_coarse_graining(const CgSettings& s) {
   CgSummary summary;
   summary.output_dir = s.output_dir;
   summary.true_diameter = true_diameter(first, species, s);
+  summary.warnings = clump_volume_warnings(first, species, s.source);
   summary.kernel_width = kernel_width_m(s.width_diameters, summary.true_diameter);
   const Kernel kernel{s.kernel, summary.kernel_width, s.boundary};
   const Grid grid = Grid::make(s.dimension, s.lo, s.hi, s.cells);

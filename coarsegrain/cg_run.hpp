@@ -21,6 +21,9 @@ struct CgSummary {
   double max_mass_error = 0;                   // largest |sum rho V - M| / M over snapshots
   std::vector<double> times;                   // of the snapshots
   std::vector<CongregationIndex> congregation; // per snapshot
+  /// Things the fields are right by definition but perhaps not what was meant (e.g. a clump species
+  /// without a density: its volume fraction counts the overlaps of its spheres).
+  std::vector<std::string> warnings;
   std::string output_dir;
 };
 

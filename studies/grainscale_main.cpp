@@ -283,6 +283,7 @@ int run_cg(const Args& a) {
   std::printf("coarse-grained %d snapshots into %d frames (kernel width %.4g m, true diameter %.4g m); "
               "worst mass error %.2g\n",
               s.snapshots, s.frames, s.kernel_width, s.true_diameter, s.max_mass_error);
+  for (const std::string& w : s.warnings) std::printf("warning: %s\n", w.c_str());
   if (!s.congregation.empty()) {
     const cg::CongregationIndex& c = s.congregation.back();
     std::printf("last snapshot: chaff at the ends / overall %.3g (left) %.3g (right); top-view coverage left %.3g, "

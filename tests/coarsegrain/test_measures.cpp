@@ -152,3 +152,21 @@ TEST_CASE("Congregation index: 1 for a uniform mixture, the chaff excess at the 
   CHECK(cov.coverage_centre == 0.5);
   CHECK(cov.coverage_ratio == 2.0);
 }
+
+TEST_CASE("A clump species without a density is warned about: its volume would count the spheres' overlaps", "[cg][particles]") {
+  dem::Snapshot s = test::empty_snapshot({"wheat", "chaff"});
+  // Two overlapping 2 mm spheres 2 mm apart: one wheat clump; a loose chaff sphere.
+  test::add_clump(s, 0, 1380, {{{0.100, 0.1, 0.02}, 0.002}, {{0.102, 0.1, 0.02}, 0.002}}, {0.101, 0.1, 0.02});
+  test::add_sphere(s, 1, 0.002, 100, {0.3, 0.1, 0.02});
+  SpeciesTable species = species_from_snapshot(s, {"chaff"});
+  const std::vector<std::string> w = clump_volume_warnings(s, species, "cg.yaml");
+  REQUIRE(w.size() == 1);  // the loose chaff sphere's volume is exact either way
+  CHECK(w[0].find("cg.yaml") != std::string::npos);
+  CHECK(w[0].find("'wheat'") != std::string::npos);
+  CHECK(w[0].find("species.wheat.density") != std::string::npos);
+  // With the density the clump's volume is its mass / density, whatever the overlaps.
+  species.density["wheat"] = 1380;
+  CHECK(clump_volume_warnings(s, species, "cg.yaml").empty());
+  const CgParticles p = particles(s, species);
+  CHECK_THAT(p.volume[0] + p.volume[1], WithinRel((s.mass[0] + s.mass[1]) / 1380, 1e-12));
+}
