@@ -17,8 +17,10 @@
 //   a_x = ⟨sgn(e) (|e| − μ)⁺⟩ − ⟨sgn(tan θ) (|tan θ| − μ)⁺⟩                          (G2)
 //   a_z = −(⟨−g_eff,z⟩ / g − ⟨cos θ⟩) = ⟨ω²⟩ r_z / g                                  (G3)
 // (a points where the extra pull goes: a_x > 0 leans the bed towards +x; a_z > 0 pulls it up).
-// μ = 0 gives the mean slope ⟨e⟩; with ⟨α²⟩ = 0 (no angular acceleration known) the anomaly is the
-// centrifugal part alone, a = ⟨ω²⟩ r / g, the small-motion limit of (G2)–(G3).
+// μ = 0 gives the mean slope ⟨e⟩. With ⟨α²⟩ = 0 (no angular acceleration known, or a steady
+// rotation) the anomaly is the centrifugal part alone, a = ⟨ω²⟩ r / g. That is not the limit of a
+// small swing: for θ = A sin φ the Euler term's rectified slope −Ω² ⟨θ²⟩ r_x / g cancels the
+// centrifugal ⟨θ'²⟩ r_x / g, and a_x is O(A⁴) (tests/continuum/test_effective_gravity.cpp).
 //
 // While g_eff,z ≥ 0 the bed is lifted off its floor; e is then capped at ±kMaxSlope.
 #include <utility>

@@ -7,7 +7,9 @@
 // swing, less at the other). Light chaff segregates against g_eff (segregation.hpp: against g,
 // w_s = S γ̇), so its cycle-mean drift relative to the grain is
 //   v = −S_l γ̇ (a_x, a_z)                                                                (L1)
-// carried as q c (1 − c) (drift_flux.hpp). S_l [m] is the segregation length for this forcing
+// carried as q c (1 − c) (drift_flux.hpp). With `rate` > 0 that rate [1/s] replaces γ̇: a bed the
+// swing moves throughout (the Euler term shaking it), which the cycle-mean γ̇ averages out, given
+// e.g. the swing's angular frequency. S_l [m] is the segregation length for this forcing
 // (fitted; the same order as segregation.S if the mechanism is the same). The motion's ⟨ω²⟩ and
 // ⟨α²⟩ and the axis position (x_a, z_a) in the container frame come from the experiment
 // (`grainscale loop` reads them from the DEM scenario); μ, the bed's static friction (tan of its
