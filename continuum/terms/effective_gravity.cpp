@@ -42,7 +42,7 @@ AnomalyTable::AnomalyTable(const CycleMotion& m, double x_lo, double x_hi, doubl
 }
 
 bool AnomalyTable::covers(double x_lo, double x_hi, double z_lo, double z_hi) const {
-  return !empty() && x_lo >= x_lo_ && x_hi <= x_hi_ && z_lo >= z_lo_ && z_hi <= z_hi_;
+  return !ax_.empty() && x_lo >= x_lo_ && x_hi <= x_hi_ && z_lo >= z_lo_ && z_hi <= z_hi_;
 }
 
 std::pair<double, double> AnomalyTable::at(double x, double z) const {

@@ -51,7 +51,6 @@ class AnomalyTable {
   std::pair<double, double> at(double x, double z) const;
   const CycleMotion& motion() const { return motion_; }
   bool covers(double x_lo, double x_hi, double z_lo, double z_hi) const;
-  bool empty() const { return ax_.empty(); }
 
  private:
   CycleMotion motion_;

@@ -19,10 +19,14 @@ CycleMotion LeverArm::motion() const {
   return {p.get("omega2"), p.get("alpha2"), p.get("axis_x"), p.get("axis_z"), p.get("mu")};
 }
 
+double LeverArm::mobility_rate(double shear_rate) const {
+  const double rate = parameters().get("rate");
+  return rate > 0 ? rate : shear_rate;
+}
+
 std::pair<double, double> LeverArm::drift(double x, double z, double shear_rate) const {
   const auto [ax, az] = effective_gravity_anomaly(motion(), x, z);
-  const double rate = parameters().get("rate");
-  const double k = -parameters().get("S") * (rate > 0 ? rate : shear_rate);
+  const double k = -parameters().get("S") * mobility_rate(shear_rate);
   return {k * ax, k * az};
 }
 
@@ -39,15 +43,14 @@ DriftField LeverArm::field(const TermContext& ctx) const {
   const Grid& g = ctx.grid;
   const FaceCoefficients& faces = ctx.faces;
   const AnomalyTable& a = table(g);
-  const double S = parameters().get("S"), rate = parameters().get("rate");
-  return {[&g, &faces, &a, S, rate](int f, int k) {
+  const double S = parameters().get("S");
+  return {[this, &g, &faces, &a, S](int f, int k) {
             const double x = g.x_face(f), z = (k + 0.5) * g.dsigma() * g.h_node(f);
-            const double r = rate > 0 ? rate : faces.shear_x[x_face(g, f, k)];
-            return x_face_drift(g, f, -S * r * a.at(x, z).first);
+            return x_face_drift(g, f, -S * mobility_rate(faces.shear_x[x_face(g, f, k)]) * a.at(x, z).first);
           },
-          [&g, &faces, &a, S, rate](int i, int m) {
+          [this, &g, &faces, &a, S](int i, int m) {
             const auto [ax, az] = a.at(g.x_centre(i), g.sigma_face(m) * g.h_column(i));
-            const double k = -S * (rate > 0 ? rate : faces.shear_s[s_face(g, i, m)]);
+            const double k = -S * mobility_rate(faces.shear_s[s_face(g, i, m)]);
             return s_face_drift(g, i, m, k * ax, k * az);
           }};
 }

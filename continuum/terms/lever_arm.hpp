@@ -36,6 +36,8 @@ class LeverArm final : public FluxTerm {
 
  private:
   CycleMotion motion() const;
+  /// The rate the drift scales with: `rate` if set, else the local shear rate.
+  double mobility_rate(double shear_rate) const;
   const AnomalyTable& table(const Grid& g) const;
   DriftField field(const TermContext& ctx) const;
   const DriftCache& faces_q(const TermContext& ctx) const;
