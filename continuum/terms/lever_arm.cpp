@@ -11,7 +11,8 @@ LeverArm::LeverArm(Limiter limiter)
                              {"axis_x", "m", -0.6, -1e4, 1e4, -1e4, 1e4, "rotation axis x in the container frame", true},
                              {"axis_z", "m", -0.3, -1e4, 1e4, -1e4, 1e4, "rotation axis z in the container frame", true},
                              {"mu", "-", 0.0, 0.0, 2.0, 0.0, 2.0, "static friction of the bed, tan of its repose angle (G2); 0: mean slope", true},
-                             {"rate", "1/s", 0.0, 0.0, 1e3, 0.0, 1e3, "mobility rate of the whole bed; 0: the local shear rate", true}}),
+                             {"rate", "1/s", 0.0, 0.0, 1e3, 0.0, 1e3, "mobility rate of the whole bed; 0: the local shear rate", true},
+                             {"layer", "m", 0.0, 0.0, 1.0, 4e-3, 3e-2, "the drift acts in this top layer only (L2); 0: the whole depth", true}}),
       limiter_(limiter) {}
 
 CycleMotion LeverArm::motion() const {
@@ -43,14 +44,22 @@ DriftField LeverArm::field(const TermContext& ctx) const {
   const Grid& g = ctx.grid;
   const FaceCoefficients& faces = ctx.faces;
   const AnomalyTable& a = table(g);
-  const double S = parameters().get("S");
-  return {[this, &g, &faces, &a, S](int f, int k) {
-            const double x = g.x_face(f), z = (k + 0.5) * g.dsigma() * g.h_node(f);
-            return x_face_drift(g, f, -S * mobility_rate(faces.shear_x[x_face(g, f, k)]) * a.at(x, z).first);
+  const double S = parameters().get("S"), layer = parameters().get("layer");
+  return {[this, &g, &faces, &a, S, layer](int f, int k) {
+            const double h = g.h_node(f), dz = g.dsigma() * h;
+            const double vx = -S * mobility_rate(faces.shear_x[x_face(g, f, k)]) * a.at(g.x_face(f), (k + 0.5) * dz).first;
+            if (layer <= 0) return x_face_drift(g, f, vx);
+            return vx * std::clamp((k + 1) * dz - std::max(k * dz, h - layer), 0.0, dz);  // (L2): the face's part in the layer
           },
-          [this, &g, &faces, &a, S](int i, int m) {
-            const auto [ax, az] = a.at(g.x_centre(i), g.sigma_face(m) * g.h_column(i));
-            const double k = -S * mobility_rate(faces.shear_s[s_face(g, i, m)]);
+          [this, &g, &faces, &a, S, layer](int i, int m) {
+            const double h = g.h_column(i), z = g.sigma_face(m) * h;
+            // (L2): a σ-face counts fully a half cell above the layer's bottom, not at all a half cell
+            // below it, linearly between: continuous in δ, as the x-faces' overlap is, so a fit of δ
+            // does not stall where the layer's bottom crosses a face.
+            const double in_layer = layer > 0 ? std::clamp((z - (h - layer)) / (g.dsigma() * h) + 0.5, 0.0, 1.0) : 1.0;
+            if (in_layer == 0) return 0.0;
+            const auto [ax, az] = a.at(g.x_centre(i), z);
+            const double k = -S * in_layer * mobility_rate(faces.shear_s[s_face(g, i, m)]);
             return s_face_drift(g, i, m, k * ax, k * az);
           }};
 }

@@ -19,6 +19,14 @@
 // roll axis. For a box 0.8–1.0 m from the axis tilting ±35° at 0.5 Hz (studies/loop_lever_arm/)
 // the Euler part wins: a_x = −0.10 to −0.21 (μ = 0), the bed leans towards the axis and the chaff
 // drifts to the far end.
+//
+// With `layer` δ > 0 the drift acts only in the top δ of the bed:
+//   v = −S_l γ̇ a(x, z)  where z > h(x) − δ,   0 below                                      (L2)
+// the lean drives the flowing surface layer, not the plug beneath it: at ±35° the bed below a
+// few grains rocks with the box (the on-axis DEM of studies/loop_lever_arm/ keeps its balls where
+// the pour left them), while the layer avalanches one way at the swing's weak end. On that DEM's
+// off-axis run a 20 mm layer (three 2× grain lengths) explains more of the far-end pile than the
+// whole depth does (docs/loop.md). δ = 0 (the default) is (L1) throughout.
 #include "continuum/drift_flux.hpp"
 #include "continuum/terms/effective_gravity.hpp"
 

@@ -204,3 +204,37 @@ TEST_CASE("All candidate terms together conserve chaff and keep c in [0, 1] on a
   for (const auto& e : term_registry()) candidates += !e.candidate_parameters.empty();
   CHECK(candidates == 6);
 }
+
+TEST_CASE("Lever arm in a surface layer: the drift acts in the top delta only (L2)", "[continuum][loop][lever_arm]") {
+  // A flat 0.1 m bed in 10 cells; the layer's bottom (0.065 m) halves cell 6. With a uniform c the
+  // flux through a face is q c (1 − c), so it scales with the face's part in the layer.
+  const std::string lean = "S: 0.01, omega2: 0.1, axis_x: -0.6, axis_z: -0.3";
+  auto fluxes = [&](const std::string& extra) {
+    Model model(Grid::flat(0.4, 0.1, 8, 10), std::make_shared<UniformShear>(1.0));
+    model.add_term(term("lever_arm", "{" + lean + extra + "}"));
+    const std::vector<double> uniform(model.size(), 0.3);
+    FaceFluxes f;
+    model.face_fluxes(0, uniform, f);
+    return f;
+  };
+  const FaceFluxes whole = fluxes(""), layer = fluxes(", layer: 0.035"), deep = fluxes(", layer: 0.2");
+  const Grid g = Grid::flat(0.4, 0.1, 8, 10);
+  for (int f = 1; f < g.nx(); ++f) {
+    for (int k = 0; k < g.nz(); ++k) {
+      const std::size_t face = x_face(g, f, k);
+      INFO("x-face " << f << ", cell " << k);
+      REQUIRE(whole.x[face] < 0);  // light chaff against the centrifugal lean: towards the axis at x = -0.6
+      const double part = k >= 7 ? 1.0 : k == 6 ? 0.5 : 0.0;
+      CHECK(layer.x[face] == Approx(part * whole.x[face]).epsilon(1e-9).margin(1e-20));
+      CHECK(deep.x[face] == Approx(whole.x[face]).epsilon(1e-12));  // a layer deeper than the bed: (L1)
+    }
+  }
+  for (int i = 0; i < g.nx(); ++i) {
+    for (int m = 1; m < g.nz(); ++m) {
+      const std::size_t face = s_face(g, i, m);
+      INFO("column " << i << ", sigma-face " << m);
+      CHECK(layer.s[face] == Approx(m >= 7 ? whole.s[face] : 0.0).margin(1e-12 * std::abs(whole.s[face])));
+      CHECK(deep.s[face] == whole.s[face]);
+    }
+  }
+}

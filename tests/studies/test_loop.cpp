@@ -254,6 +254,32 @@ TEST_CASE("grainscale loop names a hidden off-axis swing and cuts the held-out e
   fs::remove_all(dir);
 }
 
+TEST_CASE("A candidate's fit list chooses which of its parameters the loop fits", "[studies][loop][lever_arm]") {
+  // The swing's lean hidden in the top 30 mm of the 80 mm bed only (L2); the loop told to fit the
+  // layer's depth too finds both, and the default (S alone) is unchanged. On 8 mm cells: a layer
+  // inside the top cell would show only S δ (the flux through that cell's faces), not each.
+  const fs::path dir = scratch("fit_list");
+  const double sigma = 0.01;
+  const std::string swing = "omega2: 1.84, alpha2: 18.2, axis_x: -0.8, axis_z: 0, rate: 3.14, mu: 0.53";
+  write_data(dir, model_yaml(10, 10, "  lever_arm: {S: 1.5e-3, layer: 0.03, " + swing + "}\n"), kTimes, sigma, 7);
+  write_settings(dir, 10, 10, sigma, "candidates: {lever_arm: {" + swing + ", fit: [S, layer]}}\n");
+  const LoopSettings s = load_loop_settings((dir / "loop.yaml").string());
+  REQUIRE(s.candidates.size() == 1);
+  CHECK(s.candidates[0].fitted == std::vector<std::string>{"lever_arm.S", "lever_arm.layer"});
+  CHECK_FALSE(s.candidates[0].settings["fit"]);  // not passed on to the term as a parameter
+  const LoopResult r = run_loop(s);
+  REQUIRE(r.chosen == 0);
+  const Evaluation& e = r.candidates[0];
+  REQUIRE(e.parameters.size() >= 2);
+  const std::size_t n = e.values.size();
+  INFO("S_l = " << e.values[n - 2] << " +- " << e.standard_errors[n - 2] << ", layer = " << e.values[n - 1] << " +- " << e.standard_errors[n - 1]);
+  CHECK(std::abs(e.values[n - 2] - 1.5e-3) < 3 * e.standard_errors[n - 2]);
+  CHECK(std::abs(e.values[n - 1] - 0.03) < 3 * e.standard_errors[n - 1]);
+  write_settings(dir, 10, 5, sigma, "candidates: {lever_arm: {" + swing + "}}\n");
+  CHECK(load_loop_settings((dir / "loop.yaml").string()).candidates[0].fitted == std::vector<std::string>{"lever_arm.S"});
+  fs::remove_all(dir);
+}
+
 TEST_CASE("A fitted strength far outside its prior range is reported, not hidden", "[studies][loop]") {
   // The same bed with the drift hidden at 5e-3 m/s, five times its prior's top (the off-axis DEM
   // of docs/loop.md gave 4.7e-3): found and added as before, with a warning that asks why.
@@ -359,6 +385,9 @@ TEST_CASE("Bad loop settings are input errors naming the file and key", "[studie
   fails_with("fit: fit.yaml\ncandidates: [no_such_effect]\noutput: o\n", "no_such_effect");
   fails_with("fit: fit.yaml\ncandidates: {surface_drift: {speed: 1}}\noutput: o\n", "speed");
   fails_with("fit: fit.yaml\ncandidates: {lever_arm: {axis_x: nope}}\noutput: o\n", "axis_x");
+  fails_with("fit: fit.yaml\ncandidates: {lever_arm: {fit: [S, nope]}}\noutput: o\n", "candidates.lever_arm.fit");
+  fails_with("fit: fit.yaml\ncandidates: {lever_arm: {fit: []}}\noutput: o\n", "candidates.lever_arm.fit");
+  fails_with("fit: fit.yaml\ncandidates: {lever_arm: {fit: S}}\noutput: o\n", "must be a list");
   fails_with("fit: fit.yaml\ncv: {blocks: 1}\noutput: o\n", "blocks");
   fails_with("fit: fit.yaml\ncv: {by: space}\noutput: o\n", "by");
   fails_with("fit: fit.yaml\ncontainer: box\noutput: o\n", "scenario");
