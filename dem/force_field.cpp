@@ -95,9 +95,9 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
       partner_touching_[nl.rev_position(k)] = touching_[k];
     }
     list_generation_ = nl.generation();
-    find_near_walls(p, walls, nl.skin());
+    find_near_walls(p, walls, nl);
   } else if (!walls_where_found(walls)) {
-    find_near_walls(p, walls, nl.skin());
+    find_near_walls(p, walls, nl);
   }
 
   std::size_t contacts = 0, wall_contacts = 0;
@@ -266,10 +266,13 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
   return d;
 }
 
-void ForceField::find_near_walls(const Particles& p, const std::vector<Wall>& walls, double skin) {
+void ForceField::find_near_walls(const Particles& p, const std::vector<Wall>& walls, const NeighborList& nl) {
   // A static wall can touch sphere i before the next list build only if it is within r_i + skin/2 of
   // where the sphere is now (the list is rebuilt once a sphere has moved skin/2); a whole skin
-  // leaves room for round-off. A moving wall, or one beyond the mask, is always asked.
+  // leaves room for round-off. A moving wall, or one beyond the mask, is always asked; so is every
+  // wall for a stray with slack (it may move further than skin/2 before the next build).
+  const double skin = nl.skin();
+  const std::vector<double>& slack = nl.slack2();
   const std::size_t n = p.size();
   near_walls_.resize(n);
   std::uint32_t always = 0;
@@ -279,6 +282,7 @@ void ForceField::find_near_walls(const Particles& p, const std::vector<Wall>& wa
 #pragma omp parallel for if(n >= parallel_min_items()) schedule(static)
   for (std::size_t i = 0; i < n; ++i) {
     std::uint32_t near = always;
+    if (i < slack.size() && slack[i] > 0) near = ~0u;
     for (std::size_t w = 0; w < std::min(walls.size(), kMaskedWalls); ++w) {
       if (near >> w & 1u) continue;
       WallContact wc[kWallSlots + 1];

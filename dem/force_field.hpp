@@ -117,7 +117,7 @@ class ForceField {
   std::vector<std::uint32_t> near_walls_;
   std::vector<WallPose> mask_poses_;  // the walls' poses when the masks were made
   std::uint32_t mask_moving_ = 0;     // and which of them were moving
-  void find_near_walls(const Particles& p, const std::vector<Wall>& walls, double skin);
+  void find_near_walls(const Particles& p, const std::vector<Wall>& walls, const NeighborList& nl);
   bool walls_where_found(const std::vector<Wall>& walls) const;
   // kWallSlots per particle, the first wall_count_[i] used; the scratch pair holds the step before
   // during compute (double buffer) and is scratch for permute otherwise.

@@ -26,17 +26,17 @@ int NeighborList::cell_of(const Vec3& x) const {
   return (i[2] * n_[1] + i[1]) * n_[0] + i[0];
 }
 
-const std::vector<std::uint32_t>& NeighborList::sort_by_cell(const Particles& p, double skin) {
-  const std::size_t n = p.size();
+NeighborList::GridBounds NeighborList::grid_bounds(const std::vector<Vec3>& x, const std::vector<double>& radius, std::size_t n,
+                                                    double skin) {
   double lo_x = std::numeric_limits<double>::infinity(), lo_y = lo_x, lo_z = lo_x;
   double hi_x = -lo_x, hi_y = -lo_x, hi_z = -lo_x, r_max = 0;
   int nonfinite = 0;  // (min and max pass NaN over, so it is counted apart)
 #pragma omp parallel for if(n >= parallel_min_items()) reduction(min : lo_x, lo_y, lo_z) reduction(max : hi_x, hi_y, hi_z, r_max) reduction(+ : nonfinite)
   for (std::size_t i = 0; i < n; ++i) {
-    lo_x = std::min(lo_x, p.x[i].x), lo_y = std::min(lo_y, p.x[i].y), lo_z = std::min(lo_z, p.x[i].z);
-    hi_x = std::max(hi_x, p.x[i].x), hi_y = std::max(hi_y, p.x[i].y), hi_z = std::max(hi_z, p.x[i].z);
-    r_max = std::max(r_max, p.radius[i]);
-    nonfinite += !is_finite(p.x[i]);
+    lo_x = std::min(lo_x, x[i].x), lo_y = std::min(lo_y, x[i].y), lo_z = std::min(lo_z, x[i].z);
+    hi_x = std::max(hi_x, x[i].x), hi_y = std::max(hi_y, x[i].y), hi_z = std::max(hi_z, x[i].z);
+    r_max = std::max(r_max, radius[i]);
+    nonfinite += !is_finite(x[i]);
   }
   if (n == 0) lo_x = lo_y = lo_z = hi_x = hi_y = hi_z = 0;
   // Only a blown-up state has positions that are not finite or spread over more than the largest
@@ -46,35 +46,43 @@ const std::vector<std::uint32_t>& NeighborList::sort_by_cell(const Particles& p,
   }
 
   // Cells at least one interaction range wide; the particle count bounds the grid size.
-  cell_ = std::max(2.0 * r_max + skin, 1e-12);
-  const double max_cells = std::max<double>(64.0, 8.0 * static_cast<double>(n));
+  GridBounds b;
+  b.r_max = r_max;
+  b.cell = std::max(2.0 * r_max + skin, 1e-12);
+  b.max_cells = std::max<double>(64.0, 8.0 * static_cast<double>(n));
   // A stray (a grain thrown out of an open container and falling away) stretches the box: widening
   // the cells to cover it would put hundreds of neighbours in every cell and slow the whole run by
   // orders of magnitude. Grid the core instead, the 1st to 99th percentile of the positions on each
   // axis plus a cell, and let the particles beyond it fall into the edge cells (cell_of clamps).
   // Clamping moves no two points further apart on any axis, so pairs within range still lie in
   // adjacent cells: the list is exact, only the strays' own search is longer.
-  // Cells along x, y, z for cells of edge c over the current box (in double: a particle flung far
-  // away would overflow an int).
-  const auto cells_along = [&](double c) {
-    return std::array<double, 3>{std::floor((hi_x - lo_x) / c) + 1, std::floor((hi_y - lo_y) / c) + 1, std::floor((hi_z - lo_z) / c) + 1};
-  };
-  const auto product = [](const std::array<double, 3>& f) { return f[0] * f[1] * f[2]; };
-  if (product(cells_along(cell_)) > max_cells && n >= 100) {
+  double lo[3] = {lo_x, lo_y, lo_z}, hi[3] = {hi_x, hi_y, hi_z};
+  if (b.product(b.cells_along(lo, hi, b.cell)) > b.max_cells && n >= 100) {
     const std::size_t k = n / 100;
     scratch_.resize(n);
-    double* lo[3] = {&lo_x, &lo_y, &lo_z};
-    double* hi[3] = {&hi_x, &hi_y, &hi_z};
     for (int a = 0; a < 3; ++a) {
-      for (std::size_t i = 0; i < n; ++i) scratch_[i] = component(p.x[i], a);
-      std::nth_element(scratch_.begin(), scratch_.begin() + static_cast<std::ptrdiff_t>(k), scratch_.end());
+      for (std::size_t i = 0; i < n; ++i) scratch_[i] = component(x[i], a);
+      std::nth_element(scratch_.begin(), scratch_.begin() + static_cast<std::ptrdiff_t>(k), scratch_.begin() + static_cast<std::ptrdiff_t>(n));
       const double q_lo = scratch_[k];
-      std::nth_element(scratch_.begin(), scratch_.begin() + static_cast<std::ptrdiff_t>(n - 1 - k), scratch_.end());
+      std::nth_element(scratch_.begin(), scratch_.begin() + static_cast<std::ptrdiff_t>(n - 1 - k), scratch_.begin() + static_cast<std::ptrdiff_t>(n));
       const double q_hi = scratch_[n - 1 - k];
-      *lo[a] = std::max(*lo[a], q_lo - cell_);
-      *hi[a] = std::min(*hi[a], q_hi + cell_);
+      if (q_lo - b.cell > lo[a]) lo[a] = q_lo - b.cell, b.trimmed = true;
+      if (q_hi + b.cell < hi[a]) hi[a] = q_hi + b.cell, b.trimmed = true;
     }
   }
+  for (int a = 0; a < 3; ++a) b.lo[a] = lo[a], b.hi[a] = hi[a];
+  return b;
+}
+
+const std::vector<std::uint32_t>& NeighborList::sort_by_cell(const Particles& p, double skin) {
+  const std::size_t n = p.size();
+  bounds_ = grid_bounds(p.x, p.radius, n, skin);
+  const GridBounds& b = bounds_;
+  cell_ = b.cell;
+  const double lo_x = b.lo[0], lo_y = b.lo[1], lo_z = b.lo[2];
+  const auto cells_along = [&](double c) { return b.cells_along(b.lo, b.hi, c); };
+  const auto product = [](const std::array<double, 3>& f) { return GridBounds::product(f); };
+  const double max_cells = b.max_cells;
   // If even the core is too large a grid (a sparse cloud), widen the cells.
   for (;;) {
     const std::array<double, 3> f = cells_along(cell_);
@@ -173,8 +181,58 @@ void NeighborList::build(Particles& p, double skin, const std::vector<std::uint3
 
 #pragma omp parallel for if(n >= parallel_min_items()) schedule(static)
   for (std::size_t i = 0; i < n; ++i) p.x_at_build[i] = p.x[i];
+  assign_stray_slack(p, n, bounds_);
   ++builds_;
   ++generation_;
+}
+
+void NeighborList::assign_stray_slack(const Particles& p, std::size_t n, const GridBounds& b) {
+  // A stray far from every other particle (and from every static wall: the force loop asks all of
+  // them for it, force_field.cpp) may move further than skin/2 before the list is wrong. With gap_i
+  // the smallest surface gap from i to any particle of another body at the build, i may move
+  //   allow_i = max(skin/2, gap_i/2)
+  // and the list stays exact: a pair not listed is at least gap_ij >= max(gap_i, gap_j) >= skin
+  // apart, and allow_i + allow_j <= gap_ij (both halves, or gap_i/2 + skin/2 <= gap_i when
+  // gap_i >= skin). stale() sees d_i² − slack2_i with slack2_i = allow_i² − skin²/4, so the others'
+  // test is unchanged bit for bit. Only particles outside the gridded core (strays, sort_by_cell)
+  // are candidates; the particles inside the core box are at least the distance to the box away.
+  slack2_.clear();
+  if (!b.trimmed) return;
+  outside_.clear();
+  candidates_.clear();
+  const double half = 0.5 * skin_;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec3& x = p.x_at_build[i];
+    double d2 = 0;
+    for (int a = 0; a < 3; ++a) {
+      const double u = component(x, a), below = b.lo[a] - u, above = u - b.hi[a];
+      const double out = std::max({below, above, 0.0});
+      d2 += out * out;
+    }
+    if (d2 == 0) continue;
+    outside_.push_back(static_cast<std::uint32_t>(i));
+    const double reach = p.radius[i] + b.r_max + skin_;
+    if (d2 > reach * reach) candidates_.push_back(static_cast<std::uint32_t>(i));
+  }
+  // Beyond a few dozen the edge of a wide bed, not strays, is outside the core: no slack (the cost
+  // below is candidates x outside).
+  if (candidates_.empty() || candidates_.size() > kMaxStrays) return;
+  slack2_.assign(n, 0.0);
+  for (const std::uint32_t i : candidates_) {
+    const Vec3& x = p.x_at_build[i];
+    double d2 = 0;
+    for (int a = 0; a < 3; ++a) {
+      const double out = std::max({b.lo[a] - component(x, a), component(x, a) - b.hi[a], 0.0});
+      d2 += out * out;
+    }
+    double gap = std::sqrt(d2) - p.radius[i] - b.r_max;
+    for (const std::uint32_t j : outside_) {
+      if (j == i || p.body[j] == p.body[i]) continue;
+      gap = std::min(gap, std::sqrt(norm2(p.x_at_build[j] - x)) - p.radius[i] - p.radius[j]);
+    }
+    const double allow = std::max(half, 0.5 * gap);
+    slack2_[i] = allow * allow - half * half;
+  }
 }
 
 void NeighborList::index_partners(std::size_t n) {
@@ -226,6 +284,9 @@ void NeighborList::restore(const Particles& p, double skin, std::vector<std::uin
   builds_ = builds;
   ++generation_;
   index_partners(n);
+  // The strays' slack as the build gave it: a function of the positions at the build alone.
+  bounds_ = grid_bounds(p.x_at_build, p.radius, n, skin);
+  assign_stray_slack(p, n, bounds_);
 }
 
 std::size_t NeighborList::bytes() const {

@@ -13,10 +13,14 @@
 // * Strays (grains thrown out of an open container, falling away) do not stretch the grid: when the
 //   bounding box would need more than 8 cells per particle, the grid covers the 1st-99th percentile
 //   of the positions on each axis and the rest fall into its edge cells; the list stays exact.
-// * It stays valid until some particle has moved more than skin/2 since the build.
+// * It stays valid until some particle has moved more than skin/2 since the build; a stray far from
+//   everything may move further (its slack, assign_stray_slack), so one falling away from an open
+//   container does not force a build every step.
 // * Each entry carries the contact history; a rebuild carries histories over to the new entries.
 // * A reverse CSR lists, for every particle, the entries where it is the partner, so forces can be
 //   gathered per particle in a fixed order: deterministic for any thread count, no atomics.
+#include <array>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -39,9 +43,13 @@ class NeighborList {
   /// True once some particle has moved more than skin/2 since the last build, given the largest
   /// squared displacement since the build (computed by the caller inside its drift loop), or if the
   /// particle count has changed.
+  /// The caller's displacement is d_i² − slack2()[i] (slack2 may be empty: all zero).
   bool stale(const Particles& p, double max_displacement2) const {
     return start_.size() != p.size() + 1 || max_displacement2 > 0.25 * skin_ * skin_;
   }
+  /// Per slot of the last build: how much more than skin²/4 particle i's squared displacement may
+  /// grow before the list is stale (a stray's slack, else 0). Empty when no particle has any.
+  const std::vector<double>& slack2() const { return slack2_; }
 
   std::uint32_t begin(std::size_t i) const { return start_[i]; }
   std::uint32_t end(std::size_t i) const { return start_[i + 1]; }
@@ -77,6 +85,19 @@ class NeighborList {
   std::size_t bytes() const;
 
  private:
+  /// The gridded box: all positions, or their 1st-99th percentile core when strays stretch them.
+  struct GridBounds {
+    double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+    double r_max = 0, cell = 0, max_cells = 0;
+    bool trimmed = false;  // some particles lie outside [lo, hi]
+    static std::array<double, 3> cells_along(const double* lo, const double* hi, double c) {
+      return {std::floor((hi[0] - lo[0]) / c) + 1, std::floor((hi[1] - lo[1]) / c) + 1, std::floor((hi[2] - lo[2]) / c) + 1};
+    }
+    static double product(const std::array<double, 3>& f) { return f[0] * f[1] * f[2]; }
+  };
+  static constexpr std::size_t kMaxStrays = 64;
+  GridBounds grid_bounds(const std::vector<Vec3>& x, const std::vector<double>& radius, std::size_t n, double skin);
+  void assign_stray_slack(const Particles& p, std::size_t n, const GridBounds& b);
   int cell_of(const Vec3& x) const;
   void index_partners(std::size_t n);
 
@@ -89,6 +110,9 @@ class NeighborList {
   std::vector<int> cell_index_;            // per old slot, during sort
   std::vector<std::uint32_t> order_;       // new_to_old
   std::vector<double> scratch_;            // one coordinate per particle, for the core's percentiles
+  GridBounds bounds_;                      // of the last sort_by_cell (or restore)
+  std::vector<double> slack2_;             // per slot (empty: none); see slack2()
+  std::vector<std::uint32_t> outside_, candidates_;  // scratch of assign_stray_slack
 
   std::vector<std::uint32_t> start_, partner_, count_;
   std::vector<ContactHistory> history_;

@@ -387,14 +387,16 @@ inline Vec3 body_angular_velocity(const Quat& q, const Vec3& L, const Vec3& iner
 }
 
 /// Sphere s follows its body: x_s = x_b + R(q_b) offset_s, v_s = v_b + omega_b x (x_s - x_b),
-/// omega_s = omega_b. Returns the squared displacement since the last neighbour build.
-inline double follow_body(Particles& p, const Bodies& b, std::size_t s) {
+/// omega_s = omega_b. Returns the squared displacement since the last neighbour build, less the
+/// sphere's slack (a stray's, NeighborList::slack2: `slack` has `slack_n` entries, 0 beyond).
+inline double follow_body(Particles& p, const Bodies& b, std::size_t s, const double* slack, std::size_t slack_n) {
   const std::uint32_t k = p.body[s];
   const Vec3 r = rotate(b.q[k], p.offset[s]);
   p.x[s] = b.x[k] + r;
   p.v[s] = b.v[k] + cross(b.omega[k], r);
   p.omega[s] = b.omega[k];
-  return norm2(p.x[s] - p.x_at_build[s]);
+  const double moved2 = norm2(p.x[s] - p.x_at_build[s]);
+  return s < slack_n ? moved2 - slack[s] : moved2;
 }
 }  // namespace
 
@@ -433,9 +435,11 @@ void Simulation::move_spheres_with_bodies() {
   Particles& p = particles_;
   const std::size_t n = p.size();
   double moved2 = 0;
+  const double* slack = neighbors_.slack2().data();
+  const std::size_t slack_n = neighbors_.slack2().size();
 #pragma omp parallel for if(n >= parallel_min_items()) schedule(static) reduction(max : moved2)
   for (std::size_t s = 0; s < n; ++s) {
-    moved2 = std::max(moved2, follow_body(p, bodies_, s));
+    moved2 = std::max(moved2, follow_body(p, bodies_, s, slack, slack_n));
     p.q[s] = bodies_.q[p.body[s]];
   }
   moved2_ = moved2;
@@ -526,6 +530,8 @@ void Simulation::drift(double dt) {
   const std::size_t nb = b.size(), n = p.size();
   const double half = 0.5 * dt;
   double moved2 = 0;
+  const double* slack = neighbors_.slack2().data();
+  const std::size_t slack_n = neighbors_.slack2().size();
 #pragma omp parallel if(n >= parallel_min_items())
   {
 #pragma omp for schedule(static)
@@ -537,7 +543,7 @@ void Simulation::drift(double dt) {
       b.omega[k] = body_angular_velocity(b.q[k], b.L[k], b.inertia[k]);
     }
 #pragma omp for schedule(static) reduction(max : moved2)
-    for (std::size_t s = 0; s < n; ++s) moved2 = std::max(moved2, follow_body(p, b, s));
+    for (std::size_t s = 0; s < n; ++s) moved2 = std::max(moved2, follow_body(p, b, s, slack, slack_n));
   }
   moved2_ = moved2;
   sphere_state_lags_ = true;  // orientations (output only) are not copied here; velocities go stale at the kick

@@ -10,6 +10,7 @@
 #include <set>
 #include <utility>
 
+#include "barley_box_fixture.hpp"
 #include "dem/neighbor_list.hpp"
 
 using namespace grainscale::dem;
@@ -132,6 +133,90 @@ TEST_CASE("Strays far from the bed neither change the list nor coarsen the cells
   for (std::size_t i = 0; i < p.size(); ++i) p.x[i].z += 1e-4 * static_cast<double>(i % 7);
   rebuild(p, nl, skin);
   CHECK(listed(p, nl) == brute_force(p, skin));
+}
+
+TEST_CASE("A stray far from everything may move further than skin/2 and the list stays exact", "[dem][neighbor]") {
+  // A grain thrown out of an open box and falling away moves more than skin/2 every few steps: with
+  // the others' rule it forced a build every step (the off-axis DEM of studies/loop_lever_arm/ ran
+  // 10-20x slower after one left the box). Its slack is half its gap to everything else.
+  const testing::ParallelEverything guard;
+  const int threads = GENERATE(1, 2);
+  omp_set_num_threads(threads);
+  const double skin = 0.001;
+  Particles p = random_particles(2000, 0.15, 5);
+  p.add_sphere(5000, 0, 0.004, 1000, {0.07, 0.05, -30.0});     // two strays touching each other:
+  p.add_sphere(5001, 0, 0.004, 1000, {0.075, 0.05, -30.004});  // no slack
+  p.add_sphere(5002, 0, 0.004, 1000, {0.07, 0.05, -10.0});     // alone 10 m below the bed
+  NeighborList nl;
+  rebuild(p, nl, skin);
+  const std::vector<double>& slack = nl.slack2();
+  REQUIRE(slack.size() == p.size());
+  auto slot = [&](std::uint64_t id) {
+    for (std::size_t i = 0; i < p.size(); ++i)
+      if (p.id[i] == id) return i;
+    FAIL("no particle " << id);
+    return std::size_t{0};
+  };
+  const std::size_t lone = slot(5002);
+  // Its gap: to the bed's lowest particle (z >= 0.002) and to the pair 20 m below, whichever is less.
+  const double allow = std::sqrt(slack[lone] + 0.25 * skin * skin);
+  CHECK(allow > 4.0);
+  CHECK(allow < 5.0);
+  CHECK(slack[slot(5000)] == 0);
+  CHECK(slack[slot(5001)] == 0);
+  for (std::size_t i = 0; i < 2000; ++i) CHECK(slack[slot(i)] == 0);
+  // Everyone moves: the bed by up to (just under) skin/2, the lone stray 4 m up towards the bed.
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const Vec3 d{u(rng), u(rng), u(rng)};
+    p.x[i] += (0.499 * skin / std::sqrt(norm2(d))) * d;
+  }
+  p.x[lone] = p.x_at_build[lone] + Vec3{0, 0, 0.999 * allow};
+  double moved2 = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) moved2 = std::max(moved2, norm2(p.x[i] - p.x_at_build[i]) - slack[i]);
+  CHECK_FALSE(nl.stale(p, moved2));
+  // Not stale, so every touching pair must be listed.
+  const PairSet pairs = listed(p, nl);
+  for (const auto& pair : brute_force(p, 0.0)) CHECK(pairs.count(pair) == 1);
+  // A little further and the list is stale.
+  p.x[lone] = p.x_at_build[lone] + Vec3{0, 0, 1.001 * allow};
+  moved2 = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) moved2 = std::max(moved2, norm2(p.x[i] - p.x_at_build[i]) - slack[i]);
+  CHECK(nl.stale(p, moved2));
+  // A bed without strays gets no slack at all (the usual test, bit for bit).
+  Particles bed = random_particles(2000, 0.15, 5);
+  NeighborList plain;
+  rebuild(bed, plain, skin);
+  CHECK(plain.slack2().empty());
+}
+
+TEST_CASE("A grain falling away from the box does not force a list build every step", "[dem][neighbor]") {
+  // The small barley bed settling in its open box, once alone and once with a grain thrown out of
+  // it, 2 m below and falling at 10 m/s: the grain crosses skin/2 every few steps, yet the builds
+  // stay those of the bed, and nothing touches the grain: it falls exactly as z0 + v0 t − g t²/2.
+  const testing::ParallelEverything guard;
+  const int threads = GENERATE(1, 2);
+  omp_set_num_threads(threads);
+  Simulation alone = testing::barley_box(RollingModel::constant_torque, 8, 8, 7, 42);
+  Simulation thrown = testing::barley_box(RollingModel::constant_torque, 8, 8, 7, 42);
+  const double z0 = -2.0, v0 = -10.0;
+  thrown.add_sphere(0, 0.003, {0.03, 0.03, z0}, {0, 0, v0});
+  const std::uint64_t steps = 3000;
+  alone.run_steps(steps);
+  thrown.run_steps(steps);
+  const double t = thrown.time(), skin = thrown.neighbors().skin();
+  INFO("builds: " << alone.neighbors().builds() << " alone, " << thrown.neighbors().builds() << " with the grain; "
+       << "the grain moved " << -(v0 * t - 4.905 * t * t) / (0.5 * skin) << " half skins");
+  CHECK(-(v0 * t - 4.905 * t * t) > 50 * skin);  // without its slack: a build every few steps
+  CHECK(thrown.neighbors().builds() <= alone.neighbors().builds() + 2);
+  const Particles& p = thrown.particles();
+  for (std::size_t s = 0; s < p.size(); ++s) {
+    if (p.x[s].z > -1) continue;
+    CHECK(p.x[s].z == Approx(z0 + v0 * t - 0.5 * 9.81 * t * t).epsilon(1e-12));
+    CHECK(p.v[s].z == Approx(v0 - 9.81 * t).epsilon(1e-12));
+  }
+  omp_set_num_threads(2);
 }
 
 TEST_CASE("Contact histories follow their pair through reordering rebuilds", "[dem][neighbor]") {
