@@ -199,6 +199,37 @@ void fit_figures(const continuum::Grid& grid, const Observations& data, const Pr
 
 }  // namespace
 
+namespace {
+
+/// residuals.csv: every observation with the base's and the chosen model's prediction and r = (model
+/// − data) / sigma, so a user can look at the residual any way the diagnosis does not (by time, by
+/// cell). Fields first (x and z of the cell's centre), then coverage (z empty).
+std::string residuals_csv(const continuum::Grid& grid, const LoopResult& r, const Evaluation* chosen) {
+  std::ostringstream out;
+  out.precision(10);
+  out << "kind,t_s,x_m,z_m,data,sigma,model_before,r_before,model_after,r_after\n";
+  auto row = [&](const char* kind, const Observation& o, double z, double before, double after) {
+    const int i = kind[0] == 'f' ? static_cast<int>(o.index) / grid.nz() : static_cast<int>(o.index);
+    out << kind << ',' << r.data.times[o.time] << ',' << grid.x_centre(i) << ',';
+    if (!std::isnan(z)) out << z;
+    out << ',' << o.value << ',' << o.sigma << ',' << before << ',' << (before - o.value) / o.sigma << ',';
+    if (chosen) out << after << ',' << (after - o.value) / o.sigma;
+    else out << ',';
+    out << '\n';
+  };
+  for (const Observation& o : r.data.fields) {
+    const int i = static_cast<int>(o.index) / grid.nz(), k = static_cast<int>(o.index) % grid.nz();
+    row("field", o, grid.z_centre(i, k), r.base.prediction.fields[o.time][o.index],
+        chosen ? chosen->prediction.fields[o.time][o.index] : NAN);
+  }
+  for (const Observation& o : r.data.coverage) {
+    row("coverage", o, NAN, r.base.prediction.coverage[o.time][o.index], chosen ? chosen->prediction.coverage[o.time][o.index] : NAN);
+  }
+  return out.str();
+}
+
+}  // namespace
+
 std::vector<std::string> write_loop_outputs(const LoopSettings& s, const FitCommandSettings& fit, const continuum::Grid& grid,
                                             const LoopResult& r) {
   const std::string folder = s.output_folder;
@@ -326,7 +357,9 @@ std::vector<std::string> write_loop_outputs(const LoopSettings& s, const FitComm
   const std::string yaml = (fs::path(folder) / "loop.yaml").string(), md = (fs::path(folder) / "report.md").string();
   dem::write_file_atomically(yaml, y.str());
   dem::write_file_atomically(md, m.str());
-  files = {yaml, md};
+  const std::string csv = (fs::path(folder) / "residuals.csv").string();
+  dem::write_file_atomically(csv, residuals_csv(grid, r, chosen));
+  files = {yaml, md, csv};
   for (const auto& f : figures) files.push_back((fs::path(folder) / f).string());
   return files;
 }
