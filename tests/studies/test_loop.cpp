@@ -230,6 +230,29 @@ TEST_CASE("grainscale loop finds a hidden surface drift and adds it and cuts the
   CHECK(fs::exists(dir / "loop_out" / "report.md"));
   CHECK(fs::exists(dir / "loop_out" / "after_coverage.png"));
   CHECK(fs::exists(dir / "loop_out" / "before_autocorrelation.png"));
+  // residuals.csv: one row per observation; its r columns are the fits' residuals (their RMS is the
+  // reports' RMS r), and r = (model − data) / sigma row by row.
+  std::ifstream csv(dir / "loop_out" / "residuals.csv");
+  std::string line;
+  std::getline(csv, line);
+  CHECK(line == "kind,t_s,x_m,z_m,data,sigma,model_before,r_before,model_after,r_after");
+  double before2 = 0, after2 = 0;
+  std::size_t rows = 0;
+  while (std::getline(csv, line)) {
+    std::vector<std::string> cell;
+    std::stringstream ss(line);
+    for (std::string c; std::getline(ss, c, ',');) cell.push_back(c);
+    REQUIRE(cell.size() == 10);
+    const double data = std::stod(cell[4]), sigma = std::stod(cell[5]), model = std::stod(cell[6]), rb = std::stod(cell[7]);
+    CHECK(rb == Approx((model - data) / sigma).epsilon(1e-8).margin(1e-8));
+    CHECK(cell[3].empty() == (cell[0] == "coverage"));
+    before2 += rb * rb;
+    after2 += std::stod(cell[9]) * std::stod(cell[9]);
+    ++rows;
+  }
+  CHECK(rows == r.data.fields.size() + r.data.coverage.size());
+  CHECK(std::sqrt(before2 / rows) == Approx(r.base.rms).epsilon(1e-6));
+  CHECK(std::sqrt(after2 / rows) == Approx(e.rms).epsilon(1e-6));
   fs::remove_all(dir);
 }
 
