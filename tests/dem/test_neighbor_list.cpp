@@ -51,6 +51,15 @@ PairSet listed(const Particles& p, const NeighborList& nl) {
   return s;
 }
 
+/// The random bed with two strays 30 m below it, touching each other (grains thrown out of an open
+/// box, falling away together).
+Particles bed_and_falling_pair() {
+  Particles p = random_particles(2000, 0.15, 5);
+  p.add_sphere(5000, 0, 0.004, 1000, {0.07, 0.05, -30.0});
+  p.add_sphere(5001, 0, 0.004, 1000, {0.075, 0.05, -30.004});
+  return p;
+}
+
 void rebuild(Particles& p, NeighborList& nl, double skin) {
   const auto order = nl.sort_by_cell(p, skin);
   p.permute(order);
@@ -117,9 +126,7 @@ TEST_CASE("Strays far from the bed neither change the list nor coarsen the cells
   const int threads = GENERATE(1, 2);
   omp_set_num_threads(threads);
   const double skin = 0.001;
-  Particles p = random_particles(2000, 0.15, 5);
-  p.add_sphere(5000, 0, 0.004, 1000, {0.07, 0.05, -30.0});
-  p.add_sphere(5001, 0, 0.004, 1000, {0.075, 0.05, -30.004});
+  Particles p = bed_and_falling_pair();
   p.add_sphere(5002, 0, 0.004, 1000, {1000.0, 0.05, 0.02});
   NeighborList nl;
   rebuild(p, nl, skin);
@@ -143,10 +150,8 @@ TEST_CASE("A stray far from everything may move further than skin/2 and the list
   const int threads = GENERATE(1, 2);
   omp_set_num_threads(threads);
   const double skin = 0.001;
-  Particles p = random_particles(2000, 0.15, 5);
-  p.add_sphere(5000, 0, 0.004, 1000, {0.07, 0.05, -30.0});     // two strays touching each other:
-  p.add_sphere(5001, 0, 0.004, 1000, {0.075, 0.05, -30.004});  // no slack
-  p.add_sphere(5002, 0, 0.004, 1000, {0.07, 0.05, -10.0});     // alone 10 m below the bed
+  Particles p = bed_and_falling_pair();  // the pair touch: no slack
+  p.add_sphere(5002, 0, 0.004, 1000, {0.07, 0.05, -10.0});  // alone 10 m below the bed
   NeighborList nl;
   rebuild(p, nl, skin);
   const std::vector<double>& slack = nl.slack2();

@@ -113,6 +113,18 @@ void write_settings(const fs::path& dir, int nx, int nz, double sigma, const std
 }
 
 const std::vector<double> kTimes{50, 100, 150, 200, 250, 300};
+/// The swing of studies/loop_lever_arm/off_axis.yaml as lever_arm's set parameters.
+const std::string kSwing = "omega2: 1.84, alpha2: 18.2, axis_x: -0.8, axis_z: 0, rate: 3.14, mu: 0.53";
+
+/// A 10 x nz bed whose data (sigma 0.01) hide lever_arm with the swing and `hidden` ("S: ..."), and
+/// loop settings trying `candidates` (the lever arm's entry gets the swing plus `lever_extra`).
+fs::path swing_case(const std::string& name, int nz, const std::string& hidden, const std::string& lever_extra,
+                    const std::string& other_candidates) {
+  const fs::path dir = scratch(name);
+  write_data(dir, model_yaml(10, nz, "  lever_arm: {" + hidden + ", " + kSwing + "}\n"), kTimes, 0.01, 7);
+  write_settings(dir, 10, nz, 0.01, "candidates: {lever_arm: {" + kSwing + lever_extra + "}" + other_candidates + "}\n");
+  return dir;
+}
 /// Top-view photographs every 10 s: a camera above the bed records coverage continuously, while
 /// fields (DEM snapshots, or sections) come at a few times.
 const std::vector<double> kPhotographTimes = [] {
@@ -260,11 +272,7 @@ TEST_CASE("grainscale loop names a hidden off-axis swing and cuts the held-out e
   // The swing of studies/loop_lever_arm/off_axis.yaml (±35°, 0.5 Hz, the bed 0.8–1.2 m from the axis)
   // hidden at a third of the strength the DEM gave (S_l = 1.5e-3 m, docs/loop.md): the Euler term's one-sided
   // lean carries chaff to the far end. Against the two drifts that also move chaff to an end wall.
-  const fs::path dir = scratch("swing");
-  const double sigma = 0.01;
-  const std::string swing = "omega2: 1.84, alpha2: 18.2, axis_x: -0.8, axis_z: 0, rate: 3.14, mu: 0.53";
-  write_data(dir, model_yaml(10, 5, "  lever_arm: {S: 5.0e-4, " + swing + "}\n"), kTimes, sigma, 7);
-  write_settings(dir, 10, 5, sigma, "candidates: {lever_arm: {" + swing + "}, surface_drift: {}, wall_mobility: {}}\n");
+  const fs::path dir = swing_case("swing", 5, "S: 5.0e-4", "", ", surface_drift: {}, wall_mobility: {}");
   const LoopResult r = run_loop(load_loop_settings((dir / "loop.yaml").string()));
   REQUIRE(r.chosen >= 0);
   const Evaluation& e = r.candidates[r.chosen];
@@ -281,11 +289,7 @@ TEST_CASE("A candidate's fit list chooses which of its parameters the loop fits"
   // The swing's lean hidden in the top 30 mm of the 80 mm bed only (L2); the loop told to fit the
   // layer's depth too finds both, and the default (S alone) is unchanged. On 8 mm cells: a layer
   // inside the top cell would show only S δ (the flux through that cell's faces), not each.
-  const fs::path dir = scratch("fit_list");
-  const double sigma = 0.01;
-  const std::string swing = "omega2: 1.84, alpha2: 18.2, axis_x: -0.8, axis_z: 0, rate: 3.14, mu: 0.53";
-  write_data(dir, model_yaml(10, 10, "  lever_arm: {S: 1.5e-3, layer: 0.03, " + swing + "}\n"), kTimes, sigma, 7);
-  write_settings(dir, 10, 10, sigma, "candidates: {lever_arm: {" + swing + ", fit: [S, layer]}}\n");
+  const fs::path dir = swing_case("fit_list", 10, "S: 1.5e-3, layer: 0.03", ", fit: [S, layer]", "");
   const LoopSettings s = load_loop_settings((dir / "loop.yaml").string());
   REQUIRE(s.candidates.size() == 1);
   CHECK(s.candidates[0].fitted == std::vector<std::string>{"lever_arm.S", "lever_arm.layer"});
@@ -298,7 +302,7 @@ TEST_CASE("A candidate's fit list chooses which of its parameters the loop fits"
   INFO("S_l = " << e.values[n - 2] << " +- " << e.standard_errors[n - 2] << ", layer = " << e.values[n - 1] << " +- " << e.standard_errors[n - 1]);
   CHECK(std::abs(e.values[n - 2] - 1.5e-3) < 3 * e.standard_errors[n - 2]);
   CHECK(std::abs(e.values[n - 1] - 0.03) < 3 * e.standard_errors[n - 1]);
-  write_settings(dir, 10, 5, sigma, "candidates: {lever_arm: {" + swing + "}}\n");
+  write_settings(dir, 10, 10, 0.01, "candidates: {lever_arm: {" + kSwing + "}}\n");
   CHECK(load_loop_settings((dir / "loop.yaml").string()).candidates[0].fitted == std::vector<std::string>{"lever_arm.S"});
   fs::remove_all(dir);
 }
