@@ -53,8 +53,9 @@ int int_attribute(hid_t obj, const char* name, int fallback) {
 /// shear_rate [nz][1][nx], h = surface_height [1][nx]. Columns the bed does not reach (h = 0 or
 /// NaN) are dropped; below a column's surface every value must be finite; above it (no grain) u and
 /// γ̇ are irrelevant and set to 0.
-void read_cg_fields(hid_t file, const std::string& path, int frame, double temperature_diameter, std::vector<double>& x,
-                    std::vector<double>& z, std::vector<double>& u, std::vector<double>& rate, std::vector<double>& h) {
+void read_cg_fields(hid_t file, const std::string& path, int frame, double temperature_diameter, bool volume_flux,
+                    std::vector<double>& x, std::vector<double>& z, std::vector<double>& u, std::vector<double>& rate,
+                    std::vector<double>& h) {
   const hid_t grid = H5Gopen2(file, "/grid", H5P_DEFAULT);
   if (grid < 0) throw InputError(path + ": coarse-grained field file without '/grid'");
   const int dimension = int_attribute(grid, "dimension", 0);
@@ -82,6 +83,11 @@ void read_cg_fields(hid_t file, const std::string& path, int frame, double tempe
   const bool by_temperature = temperature_diameter > 0;
   const std::vector<double> gam = read_raw(f + (by_temperature ? "mixture/temperature" : "shear_rate"), dr);
   const std::vector<double> hs = read_raw(f + "surface_height", dh);
+  std::vector<hsize_t> dp;
+  const std::vector<double> phi = volume_flux ? read_raw(f + "mixture/volume_fraction", dp) : std::vector<double>{};
+  if (volume_flux && dp != std::vector<hsize_t>{z.size(), 1, xs.size()}) {
+    throw InputError(path + ": frame " + std::to_string(frame) + ": mixture/volume_fraction does not match the 2-D grid");
+  }
   const std::size_t nx = xs.size(), nz = z.size();
   if (dv != std::vector<hsize_t>{nz, 1, nx, 3} || dr != std::vector<hsize_t>{nz, 1, nx} || dh != std::vector<hsize_t>{1, nx}) {
     throw InputError(path + ": frame " + std::to_string(frame) + ": fields do not match the 2-D grid (" +
@@ -100,6 +106,20 @@ void read_cg_fields(hid_t file, const std::string& path, int frame, double tempe
     const std::size_t j = keep[c];
     x.push_back(xs[j]);
     h.push_back(hs[j]);
+    // With volume_flux: u φ / φ̄ (φ̄ the column's mean below its surface), so that ψ carries the solids'
+    // volume flux, not the dilute surface cells' fast, nearly massless flow.
+    double phi_mean = 1;
+    if (volume_flux) {
+      double sum = 0;
+      int cells = 0;
+      for (std::size_t k = 0; k < nz; ++k) {
+        if (z[k] > hs[j] || !std::isfinite(phi[k * nx + j])) continue;
+        sum += phi[k * nx + j];
+        ++cells;
+      }
+      if (!(sum > 0)) throw InputError(path + ": frame " + std::to_string(frame) + ": no solid below the surface at x = " + std::to_string(xs[j]) + " m");
+      phi_mean = sum / cells;
+    }
     for (std::size_t k = 0; k < nz; ++k) {
       const double uk = vel[(k * nx + j) * 3], gk = gam[k * nx + j];
       if (z[k] > hs[j]) continue;  // above the surface: no grain
@@ -107,7 +127,7 @@ void read_cg_fields(hid_t file, const std::string& path, int frame, double tempe
         throw InputError(path + ": frame " + std::to_string(frame) + ": NaN velocity, shear rate or temperature below the surface at x = " +
                          std::to_string(xs[j]) + " m, z = " + std::to_string(z[k]) + " m");
       }
-      u[k * keep.size() + c] = uk;
+      u[k * keep.size() + c] = volume_flux ? uk * (std::isfinite(phi[k * nx + j]) ? phi[k * nx + j] : 0.0) / phi_mean : uk;
       rate[k * keep.size() + c] = by_temperature ? std::sqrt(std::max(gk, 0.0)) / temperature_diameter : std::max(gk, 0.0);
     }
   }
@@ -115,14 +135,14 @@ void read_cg_fields(hid_t file, const std::string& path, int frame, double tempe
 
 }  // namespace
 
-GriddedFlow GriddedFlow::load(const std::string& path, double length, int frame, double temperature_diameter) {
+GriddedFlow GriddedFlow::load(const std::string& path, double length, int frame, double temperature_diameter, bool volume_flux) {
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // errors are reported as InputError below
   const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
   if (file < 0) throw InputError(path + ": cannot open as HDF5");
   try {
     std::vector<double> x, z, u, r, h;
     if (H5Aexists(file, "cg_layout_version") > 0) {
-      read_cg_fields(file, path, frame, temperature_diameter, x, z, u, r, h);
+      read_cg_fields(file, path, frame, temperature_diameter, volume_flux, x, z, u, r, h);
     } else {
       if (temperature_diameter > 0) throw InputError(path + ": mobility from the temperature needs a coarse-graining field file (`grainscale cg`)");
       std::vector<hsize_t> dx, dz, du, dr, dh;

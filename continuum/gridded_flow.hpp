@@ -24,7 +24,12 @@ class GriddedFlow final : public Flow {
   /// T instead of the mean flow's γ̇. Kinetic theory's diffusivity d sqrt(T) is then the dense
   /// rheology's γ̇ d² with γ̇ → sqrt(T)/d (Savage & Dai, Mech. Mater. 16 (1993) 225): agitation that
   /// the cycle-mean flow does not see (a bed shaken back and forth) still mixes and segregates.
-  static GriddedFlow load(const std::string& file, double length, int frame = -1, double temperature_diameter = 0);
+  /// `volume_flux` (coarse-graining files only): the stream function integrates the solids' volume
+  /// flux φ u (scaled by the column's mean φ below its surface) instead of u, so the dilute surface
+  /// cells' fast, nearly massless flow does not enter it, nor the depth-mean correction (G1) that
+  /// would spread its return flow over the dense bed.
+  static GriddedFlow load(const std::string& file, double length, int frame = -1, double temperature_diameter = 0,
+                          bool volume_flux = false);
   GriddedFlow(double length, std::vector<double> x, std::vector<double> z, std::vector<double> u,
               std::vector<double> shear_rate, std::vector<double> surface_height);
 

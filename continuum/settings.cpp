@@ -78,6 +78,10 @@ void read_flow(YamlMap m, ContinuumSettings& s) {
       if (s.flow.phase_resolved) throw InputError(m.where("mobility") + ": 'temperature' needs a single frame (no 'period')");
       s.flow.temperature_diameter = m.number("diameter", Range::closed(1e-5, 1.0));
     }
+    if (m.choice_or("flux", "velocity", {"velocity", "volume"}) == "volume") {
+      if (s.flow.phase_resolved) throw InputError(m.where("flux") + ": 'volume' needs a single frame (no 'period')");
+      s.flow.volume_flux = true;
+    }
   }
   m.finish();
 }
@@ -168,7 +172,7 @@ ContinuumSettings load_continuum_settings(const std::string& file) {
           PhaseResolvedFlow::load(s.flow.file, s.length, s.flow.period, s.flow.t0, s.flow.moving_surface);
       for (int f = 0; f <= s.nx; ++f) s.surface.push_back(flow.surface_at(s.length * f / s.nx, 0.0));
     } else {
-      const GriddedFlow flow = GriddedFlow::load(s.flow.file, s.length, s.flow.frame, s.flow.temperature_diameter);
+      const GriddedFlow flow = GriddedFlow::load(s.flow.file, s.length, s.flow.frame, s.flow.temperature_diameter, s.flow.volume_flux);
       for (int f = 0; f <= s.nx; ++f) s.surface.push_back(flow.surface_height(s.length * f / s.nx));
     }
   } else if (s.flow.type == "file" && s.flow.phase_resolved && s.flow.moving_surface) {
@@ -185,7 +189,7 @@ std::shared_ptr<const Flow> build_flow(const ContinuumSettings& s, const Grid& g
     return std::make_shared<PhaseResolvedFlow>(
         PhaseResolvedFlow::load(s.flow.file, s.length, s.flow.period, s.flow.t0, s.flow.moving_surface));
   }
-  if (s.flow.type == "file") return std::make_shared<GriddedFlow>(GriddedFlow::load(s.flow.file, s.length, s.flow.frame, s.flow.temperature_diameter));
+  if (s.flow.type == "file") return std::make_shared<GriddedFlow>(GriddedFlow::load(s.flow.file, s.length, s.flow.frame, s.flow.temperature_diameter, s.flow.volume_flux));
   if (s.flow.type == "sloshing") {
     SloshingFlow::Shape shape;
     shape.length = s.length;

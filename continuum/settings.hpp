@@ -24,6 +24,7 @@ struct FlowSettings {
   // file from `grainscale cg`: the rate the terms' mobility follows (gridded_flow.hpp): 0, the shear
   // rate of the mean flow; > 0, sqrt(T) / d from the granular temperature T with d this diameter [m]
   double temperature_diameter = 0;
+  bool volume_flux = false;  // flux: volume (GriddedFlow::load)
   // file with `period`: phase-resolved fields (phase_resolved_flow.hpp), phase 0 at t0
   bool phase_resolved = false;
   double t0 = 0;                  // [s]

@@ -24,8 +24,10 @@ using grainscale::testing::dataset;
 
 /// A cg field file on a 2-D grid of nx x nz cells over [0, 0.8] x [0, 0.2]: a shear layer
 /// u = g (z - h/2) with shear rate g below a flat surface h; the first column is empty (h NaN).
-/// The granular temperature is T = (n + 1)² 1e-4 (1 + z / h) m²/s² in frame n.
-std::string write_cg_file(double g, double h, int frames) {
+/// The granular temperature is T = (n + 1)² 1e-4 (1 + z / h) m²/s² in frame n. The solid fraction is
+/// 0.6, except the top cell below the surface: `top_phi`, where u has `jet` added (a fast, dilute
+/// surface flow).
+std::string write_cg_file(double g, double h, int frames, double jet = 0, double top_phi = 0.6) {
   const std::string path = (std::filesystem::temp_directory_path() / "grainscale_test_cg_fields.h5").string();
   const int nx = 16, nz = 10;
   const hid_t f = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
@@ -46,11 +48,12 @@ std::string write_cg_file(double g, double h, int frames) {
     const hid_t one = H5Gcreate2(fr, name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
     const hid_t mix = H5Gcreate2(one, "mixture", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
     const double nan = std::numeric_limits<double>::quiet_NaN();
-    std::vector<double> vel(nz * nx * 3, 0.0), rate(nz * nx), temperature(nz * nx), surface(nx, h);
+    std::vector<double> vel(nz * nx * 3, 0.0), rate(nz * nx), temperature(nz * nx), surface(nx, h), phi(nz * nx);
     for (int k = 0; k < nz; ++k)
       for (int j = 0; j < nx; ++j) {
-        const bool empty = j == 0 || z[k] > h;
-        vel[(k * nx + j) * 3] = empty ? nan : (n + 1) * g * (z[k] - h / 2);
+        const bool empty = j == 0 || z[k] > h, top = !empty && (k + 1 == nz || z[k + 1] > h);
+        vel[(k * nx + j) * 3] = empty ? nan : (n + 1) * g * (z[k] - h / 2) + (top ? jet : 0.0);
+        phi[k * nx + j] = empty ? nan : top ? top_phi : 0.6;
         rate[k * nx + j] = empty ? nan : (n + 1) * g;
         temperature[k * nx + j] = empty ? nan : (n + 1) * (n + 1) * 1e-4 * (1 + z[k] / h);
       }
@@ -58,6 +61,7 @@ std::string write_cg_file(double g, double h, int frames) {
     dataset(mix, "velocity", {static_cast<hsize_t>(nz), 1, static_cast<hsize_t>(nx), 3}, vel);
     dataset(one, "shear_rate", {static_cast<hsize_t>(nz), 1, static_cast<hsize_t>(nx)}, rate);
     dataset(mix, "temperature", {static_cast<hsize_t>(nz), 1, static_cast<hsize_t>(nx)}, temperature);
+    dataset(mix, "volume_fraction", {static_cast<hsize_t>(nz), 1, static_cast<hsize_t>(nx)}, phi);
     dataset(one, "surface_height", {1, static_cast<hsize_t>(nx)}, surface);
     H5Gclose(mix);
     H5Gclose(one);
@@ -79,6 +83,26 @@ TEST_CASE("Mobility from the granular temperature: the rate is sqrt(T) / d, the 
     CHECK_THAT(by_temperature.stream_function(0.4, z, 0), WithinAbs(by_shear.stream_function(0.4, z, 0), 1e-15));
   }
   std::filesystem::remove(path);
+}
+
+TEST_CASE("The volume flux keeps a dilute surface jet's return flow out of the dense bed", "[continuum][flow]") {
+  // A bed at rest (phi 0.6) under a fast, dilute top cell (u = 0.1 m/s, phi 0.03): its velocity
+  // integrates to a column flux, and the depth-mean correction (G1) spreads the return flow over
+  // the whole bed. Weighted by the solid fraction the jet carries 0.03 / phi_mean of it, and so
+  // does the return flow. With a uniform phi both are the same flow.
+  const double h = 0.1;
+  const std::string jet = write_cg_file(0.0, h, 1, 0.1, 0.03);
+  const GriddedFlow by_velocity = GriddedFlow::load(jet, 0.8, 0), by_volume = GriddedFlow::load(jet, 0.8, 0, 0, true);
+  auto interior_u = [](const GriddedFlow& f) { return (f.stream_function(0.4, 0.05, 0) - f.stream_function(0.4, 0.03, 0)) / 0.02; };
+  const double phi_mean = (4 * 0.6 + 0.03) / 5;  // the five data levels below h (z = 0.01 ... 0.09)
+  INFO("interior u: " << interior_u(by_velocity) << " by velocity, " << interior_u(by_volume) << " by volume flux");
+  CHECK(interior_u(by_velocity) < -0.01);  // a return flow of about 0.1 x (cell / depth) through the resting bed
+  CHECK(interior_u(by_volume) == Approx(interior_u(by_velocity) * 0.03 / phi_mean).epsilon(0.05));
+  std::filesystem::remove(jet);
+  const std::string shear = write_cg_file(0.3, h, 1);
+  const GriddedFlow a = GriddedFlow::load(shear, 0.8, 0), b = GriddedFlow::load(shear, 0.8, 0, 0, true);
+  for (const double z : {0.01, 0.03, 0.05, 0.07}) CHECK_THAT(b.stream_function(0.4, z, 0), WithinAbs(a.stream_function(0.4, z, 0), 1e-15));
+  std::filesystem::remove(shear);
 }
 
 TEST_CASE("A coarse-grained field file is read as the flow: shear rate, surface, chosen frame", "[continuum][flow]") {

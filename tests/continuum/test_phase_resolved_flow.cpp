@@ -220,6 +220,9 @@ output: {folder: out}
       {"frame: 0, mobility: temperature}", {"flow.diameter"}},
       {"frame: 0, mobility: temperature, diameter: 2}", {"flow.diameter"}},
       {"frame: 0, mobility: speed}", {"flow.mobility"}},
+      // The volume flux is read from one frame.
+      {"period: 2.0, flux: volume}", {"flow.flux", "single frame"}},
+      {"frame: 0, flux: mass}", {"flow.flux"}},
   };
   for (const auto& [tail, words] : bad) {
     INFO(tail);
