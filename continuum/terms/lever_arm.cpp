@@ -54,9 +54,11 @@ DriftField LeverArm::field(const TermContext& ctx) const {
           [this, &g, &faces, &a, S, layer](int i, int m) {
             const double h = g.h_column(i), z = g.sigma_face(m) * h;
             // (L2): a σ-face counts fully a half cell above the layer's bottom, not at all a half cell
-            // below it, linearly between: continuous in δ, as the x-faces' overlap is, so a fit of δ
-            // does not stall where the layer's bottom crosses a face.
-            const double in_layer = layer > 0 ? std::clamp((z - (h - layer)) / (g.dsigma() * h) + 0.5, 0.0, 1.0) : 1.0;
+            // below it, by a smooth step between (u² (3 − 2u), C¹): continuous in δ with a continuous
+            // derivative, so a fit of δ neither stalls where the layer's bottom crosses a face nor
+            // settles on a corner of the weights (a clamped linear ramp biased S_l by 4 % there).
+            const double u = std::clamp((z - (h - layer)) / (g.dsigma() * h) + 0.5, 0.0, 1.0);
+            const double in_layer = layer > 0 ? u * u * (3 - 2 * u) : 1.0;
             if (in_layer == 0) return 0.0;
             const auto [ax, az] = a.at(g.x_centre(i), z);
             const double k = -S * in_layer * mobility_rate(faces.shear_s[s_face(g, i, m)]);

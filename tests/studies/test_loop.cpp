@@ -463,6 +463,11 @@ TEST_CASE("Each hidden library effect is found in 9 of 10 noisy replicates and n
        1.5e-3,
        "candidates: {lever_arm: {omega2: 1.84, alpha2: 18.2, axis_x: -0.8, axis_z: 0, rate: 3.14, mu: 0.53}, surface_drift: {},"
        " concentration_segregation: {}, clustering_diffusion: {}, wall_mobility: {}, pause_creep: {}, observation_depth: {}}\n"},
+      // The same lean in the top 20 mm only, as the off-axis DEM fitted it (2026-12-03); the loop fits
+      // the layer's depth too (listed first, so the strength checked is S_l, the last).
+      {"lever_arm", "  lever_arm: {S: 3.8e-3, layer: 0.02, " + kSwing + "}\n", 0.01, 3.8e-3,
+       "candidates: {lever_arm: {" + kSwing + ", fit: [layer, S]}, surface_drift: {},"
+       " concentration_segregation: {}, clustering_diffusion: {}, wall_mobility: {}, pause_creep: {}, observation_depth: {}}\n"},
       {"concentration_segregation", "  concentration_segregation: {S: 3.0e-3}\n", 0.01, 3e-3},
       {"clustering_diffusion", "  clustering_diffusion: {C: 20}\n", 0.01, 20},
       {"wall_mobility", "  wall_mobility: {W: 3.0e-4}\n", 0.01, 3e-4},
