@@ -56,8 +56,10 @@ NeighborList::GridBounds NeighborList::grid_bounds(const std::vector<Vec3>& x, c
   // axis plus a cell, and let the particles beyond it fall into the edge cells (cell_of clamps).
   // Clamping moves no two points further apart on any axis, so pairs within range still lie in
   // adjacent cells: the list is exact, only the strays' own search is longer.
-  double lo[3] = {lo_x, lo_y, lo_z}, hi[3] = {hi_x, hi_y, hi_z};
-  if (b.product(b.cells_along(lo, hi, b.cell)) > b.max_cells && n >= 100) {
+  double* lo = b.lo;
+  double* hi = b.hi;
+  lo[0] = lo_x, lo[1] = lo_y, lo[2] = lo_z, hi[0] = hi_x, hi[1] = hi_y, hi[2] = hi_z;
+  if (GridBounds::product(b.cells_along(b.cell)) > b.max_cells && n >= 100) {
     const std::size_t k = n / 100;
     scratch_.resize(n);
     for (int a = 0; a < 3; ++a) {
@@ -70,7 +72,6 @@ NeighborList::GridBounds NeighborList::grid_bounds(const std::vector<Vec3>& x, c
       if (q_hi + b.cell < hi[a]) hi[a] = q_hi + b.cell, b.trimmed = true;
     }
   }
-  for (int a = 0; a < 3; ++a) b.lo[a] = lo[a], b.hi[a] = hi[a];
   return b;
 }
 
@@ -79,14 +80,10 @@ const std::vector<std::uint32_t>& NeighborList::sort_by_cell(const Particles& p,
   bounds_ = grid_bounds(p.x, p.radius, n, skin);
   const GridBounds& b = bounds_;
   cell_ = b.cell;
-  const double lo_x = b.lo[0], lo_y = b.lo[1], lo_z = b.lo[2];
-  const auto cells_along = [&](double c) { return b.cells_along(b.lo, b.hi, c); };
-  const auto product = [](const std::array<double, 3>& f) { return GridBounds::product(f); };
-  const double max_cells = b.max_cells;
   // If even the core is too large a grid (a sparse cloud), widen the cells.
   for (;;) {
-    const std::array<double, 3> f = cells_along(cell_);
-    if (product(f) <= max_cells) {
+    const std::array<double, 3> f = b.cells_along(cell_);
+    if (GridBounds::product(f) <= b.max_cells) {
       const int counts[3] = {static_cast<int>(f[0]), static_cast<int>(f[1]), static_cast<int>(f[2])};
       // Fewest cells fastest, most cells slowest (ties keep x, y, z order). An insertion sort of
       // three: std::stable_sort would allocate a buffer in the step loop.
@@ -98,7 +95,7 @@ const std::vector<std::uint32_t>& NeighborList::sort_by_cell(const Particles& p,
     }
     cell_ *= 1.5;
   }
-  origin_ = {lo_x, lo_y, lo_z};
+  origin_ = {b.lo[0], b.lo[1], b.lo[2]};
   const std::size_t cells = static_cast<std::size_t>(n_[0]) * n_[1] * n_[2];
 
   cell_index_.resize(n);
@@ -202,13 +199,7 @@ void NeighborList::assign_stray_slack(const Particles& p, std::size_t n, const G
   candidates_.clear();
   const double half = 0.5 * skin_;
   for (std::size_t i = 0; i < n; ++i) {
-    const Vec3& x = p.x_at_build[i];
-    double d2 = 0;
-    for (int a = 0; a < 3; ++a) {
-      const double u = component(x, a), below = b.lo[a] - u, above = u - b.hi[a];
-      const double out = std::max({below, above, 0.0});
-      d2 += out * out;
-    }
+    const double d2 = b.distance2(p.x_at_build[i]);
     if (d2 == 0) continue;
     outside_.push_back(static_cast<std::uint32_t>(i));
     const double reach = p.radius[i] + b.r_max + skin_;
@@ -220,12 +211,7 @@ void NeighborList::assign_stray_slack(const Particles& p, std::size_t n, const G
   slack2_.assign(n, 0.0);
   for (const std::uint32_t i : candidates_) {
     const Vec3& x = p.x_at_build[i];
-    double d2 = 0;
-    for (int a = 0; a < 3; ++a) {
-      const double out = std::max({b.lo[a] - component(x, a), component(x, a) - b.hi[a], 0.0});
-      d2 += out * out;
-    }
-    double gap = std::sqrt(d2) - p.radius[i] - b.r_max;
+    double gap = std::sqrt(b.distance2(x)) - p.radius[i] - b.r_max;
     for (const std::uint32_t j : outside_) {
       if (j == i || p.body[j] == p.body[i]) continue;
       gap = std::min(gap, std::sqrt(norm2(p.x_at_build[j] - x)) - p.radius[i] - p.radius[j]);

@@ -19,6 +19,7 @@
 // * Each entry carries the contact history; a rebuild carries histories over to the new entries.
 // * A reverse CSR lists, for every particle, the entries where it is the partner, so forces can be
 //   gathered per particle in a fixed order: deterministic for any thread count, no atomics.
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -90,10 +91,22 @@ class NeighborList {
     double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
     double r_max = 0, cell = 0, max_cells = 0;
     bool trimmed = false;  // some particles lie outside [lo, hi]
-    static std::array<double, 3> cells_along(const double* lo, const double* hi, double c) {
+    /// Cells along x, y, z for cells of edge c over [lo, hi] (in double: a particle flung far away
+    /// would overflow an int).
+    std::array<double, 3> cells_along(double c) const {
       return {std::floor((hi[0] - lo[0]) / c) + 1, std::floor((hi[1] - lo[1]) / c) + 1, std::floor((hi[2] - lo[2]) / c) + 1};
     }
     static double product(const std::array<double, 3>& f) { return f[0] * f[1] * f[2]; }
+    /// Squared distance from x to the box (0 inside).
+    double distance2(const Vec3& x) const {
+      const double u[3] = {x.x, x.y, x.z};
+      double d2 = 0;
+      for (int a = 0; a < 3; ++a) {
+        const double out = std::max({lo[a] - u[a], u[a] - hi[a], 0.0});
+        d2 += out * out;
+      }
+      return d2;
+    }
   };
   static constexpr std::size_t kMaxStrays = 64;
   GridBounds grid_bounds(const std::vector<Vec3>& x, const std::vector<double>& radius, std::size_t n, double skin);

@@ -28,13 +28,18 @@ std::vector<std::string> candidate_names() {
   return names;
 }
 
-void add_candidate(const Candidate& c, continuum::Model& model, const MotionFacts* motion, const std::string& source) {
-  if (!c.term) return;
+YAML::Node term_node(const Candidate& c) {
   YAML::Node node = YAML::Clone(c.settings);
-  for (const auto& q : c.fitted) {  // placeholders: set to their starting values below
+  for (const auto& q : c.fitted) {
     const std::string p = q.substr(q.find('.') + 1);
     if (!node[p]) node[p] = 0.0;
   }
+  return node;
+}
+
+void add_candidate(const Candidate& c, continuum::Model& model, const MotionFacts* motion, const std::string& source) {
+  if (!c.term) return;
+  YAML::Node node = term_node(c);  // placeholders: set to their starting values below
   if (motion) {
     const std::pair<const char*, double> facts[] = {{"omega2", motion->omega2_mean},
                                                     {"alpha2", motion->alpha2_mean},

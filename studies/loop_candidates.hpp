@@ -25,6 +25,10 @@ struct Candidate {
 std::vector<Candidate> candidate_library();
 std::vector<std::string> candidate_names();
 
+/// The term's YAML: the user's settings, with a placeholder 0 for each fitted parameter they leave
+/// out (the registry's fitted parameters are required keys of their terms).
+YAML::Node term_node(const Candidate& c);
+
 /// Add the candidate to a model built from the base settings (the term with its set parameters
 /// from `settings`, else from `motion` (omega2, alpha2, axis_x, axis_z, pause_fraction) when given, else
 /// its defaults; fitted parameters start at the geometric mean of their prior range unless set).

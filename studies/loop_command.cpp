@@ -1,7 +1,5 @@
 #include "studies/loop_command.hpp"
 
-#include "continuum/term_registry.hpp"
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -63,22 +61,16 @@ LoopSettings load_loop_settings(const std::string& file) {
       Candidate c = find(name);
       c.settings = YAML::Clone(raw[name]);
       if (c.term && c.settings["fit"]) {
-        // `fit: [S, K]`: which of the term's parameters the loop fits (default: the registry's).
-        YAML::Node node = YAML::Clone(c.settings);
-        node.remove("fit");
-        for (const std::string& q : c.fitted) {  // the registry's fitted ones are required keys: placeholders
-          const std::string p = q.substr(q.find('.') + 1);
-          if (!node[p]) node[p] = 0.0;
-        }
-        YamlMap probe(node, file, "candidates." + name);
-        std::vector<std::string> params;
+        // `fit: [S, layer]`: which of the term's parameters the loop fits (default: the registry's).
+        c.settings.remove("fit");
+        YamlMap probe(term_node(c), file, "candidates." + name);
         const auto term = continuum::make_term(name, probe);
+        std::vector<std::string> params;
         for (const auto& p : term->parameters().all()) params.push_back(p.name);
         const std::vector<std::string> chosen = entry.choices_or_empty("fit", params);
         if (chosen.empty()) throw InputError(entry.where("fit") + ": name at least one parameter to fit");
         c.fitted.clear();
         for (const std::string& p : chosen) c.fitted.push_back(name + "." + p);
-        c.settings.remove("fit");
       }
       s.candidates.push_back(c);
     }

@@ -197,10 +197,6 @@ void fit_figures(const continuum::Grid& grid, const Observations& data, const Pr
   }
 }
 
-}  // namespace
-
-namespace {
-
 /// residuals.csv: every observation with the base's and the chosen model's prediction and r = (model
 /// − data) / sigma, so a user can look at the residual any way the diagnosis does not (by time, by
 /// cell). Fields first (x and z of the cell's centre), then coverage (z empty).
