@@ -549,10 +549,11 @@ TEST_CASE("Motion facts of the report's platform come from the DEM scenario", "[
   CHECK_THROWS_AS(motion_facts(std::string(GRAINSCALE_SOURCE_DIR) + "/studies/platform_box_demo.yaml", "lid"), InputError);
 }
 
-TEST_CASE("The lever-arm DEM pair differs only in where the axis is", "[studies][loop]") {
-  // studies/loop_lever_arm/ (docs/loop.md): +-35 deg as a 0.5 Hz cosine, no pauses:
-  // <omega^2> = (2 pi f A)^2 / 2; the axis 0.8 m left of the box or under its floor's centre.
-  const std::string dir = std::string(GRAINSCALE_SOURCE_DIR) + "/studies/loop_lever_arm/";
+TEST_CASE("Each lever-arm DEM pair differs only in where the axis is", "[studies][loop]") {
+  // studies/loop_lever_arm/ and studies/loop_floating/ (docs/loop.md): +-35 deg as a 0.5 Hz cosine,
+  // no pauses: <omega^2> = (2 pi f A)^2 / 2; the axis 0.8 m left of the box or under its floor's centre.
+  const std::string pair = GENERATE(std::string("loop_lever_arm"), std::string("loop_floating"));
+  const std::string dir = std::string(GRAINSCALE_SOURCE_DIR) + "/studies/" + pair + "/";
   const MotionFacts off = motion_facts(dir + "off_axis.yaml", "box"), on = motion_facts(dir + "on_axis.yaml", "box");
   const double A = 35 * M_PI / 180, w = 2 * M_PI * 0.5 * A;
   for (const MotionFacts* f : {&off, &on}) {
