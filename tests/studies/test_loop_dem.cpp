@@ -7,8 +7,9 @@
 // axis"): a 100 x 30 mm slice of 2x wheat (0.1 kg) with 15 light 12 mm balls poured on top, where they
 // float, tilting +-35 deg at 0.5 Hz; 7 s, three whole cycles (about 2.5 min on 2 threads). The balls
 // gather at the far end from the first cycles. The 200 mm study run for 25 s halves the CV error
-// (3.54 -> 1.74); this short, small one cuts it by a third (2.57 -> 1.65, 2026-12-03), which is what
-// the test asserts, with margin; its on-axis twin adds nothing (docs/loop.md).
+// (3.54 -> 1.74); this short, small one cuts it by a third (2.57 -> 1.65, 2026-12-03): the test asserts
+// a quarter, to leave room for another compiler's round-off; its on-axis twin adds nothing (docs/loop.md).
+#include <unistd.h>
 #include <yaml-cpp/yaml.h>
 
 #include <catch2/catch.hpp>
@@ -17,7 +18,6 @@
 #include <fstream>
 #include <iterator>
 #include <string>
-#include <unistd.h>
 
 namespace fs = std::filesystem;
 
@@ -30,7 +30,7 @@ std::string slurp(const fs::path& p) {
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
-/// Run `grainscale <args>` in `dir`, its output to `log`; the log's tail on failure.
+/// Run `grainscale <args>` in `dir`, its output to `log` (shown on failure).
 void grainscale(const fs::path& dir, const std::string& args, const std::string& log) {
   const std::string cmd = "cd '" + dir.string() + "' && '" + GRAINSCALE_BINARY + "' " + args + " > " + log + " 2>&1";
   const int rc = std::system(cmd.c_str());
