@@ -9,33 +9,29 @@
 // gather at the far end from the first cycles. The 200 mm study run for 25 s halves the CV error
 // (3.54 -> 1.74); this short, small one cuts it by a third (2.57 -> 1.65, 2026-12-03): the test asserts
 // a quarter, to leave room for another compiler's round-off; its on-axis twin adds nothing (docs/loop.md).
-#include <unistd.h>
 #include <yaml-cpp/yaml.h>
 
 #include <catch2/catch.hpp>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <sstream>
 #include <string>
 
+#include "tests/temp_dir.hpp"
+
 namespace fs = std::filesystem;
+using grainscale::testing::slurp;
+using grainscale::testing::TempDir;
 
 namespace {
 
-void write(const fs::path& p, const std::string& text) { std::ofstream(p) << text; }
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
+void write(const fs::path& p, const std::string& text) { grainscale::testing::write_text(p.string(), text); }
 
 /// Run `grainscale <args>` in `dir`, its output to `log` (shown on failure).
 void grainscale(const fs::path& dir, const std::string& args, const std::string& log) {
   const std::string cmd = "cd '" + dir.string() + "' && '" + GRAINSCALE_BINARY + "' " + args + " > " + log + " 2>&1";
   const int rc = std::system(cmd.c_str());
-  INFO("grainscale " << args << ":\n" << slurp(dir / log));
+  INFO("grainscale " << args << ":\n" << slurp((dir / log).string()));
   REQUIRE(rc == 0);
 }
 
@@ -118,12 +114,8 @@ output: loop
 )");
 }
 
-/// Write the design into a fresh scratch folder and run it as a user does: dem, cg twice, loop.
-/// Returns loop.yaml, the scratch folder in `dir`.
-YAML::Node run_design(const FloatingDesign& d, const std::string& name, fs::path& dir) {
-  dir = fs::temp_directory_path() / ("grainscale_test_loop_dem_" + name + "_" + std::to_string(getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+/// Write the design into `dir` and run it as a user does: dem, cg twice, loop. Returns loop.yaml.
+YAML::Node run_design(const FloatingDesign& d, const fs::path& dir) {
   write_case(dir, d);
   grainscale(dir, "dem off_axis.yaml --threads 2", "dem.log");
   grainscale(dir, "cg cg.yaml", "cg.log");
@@ -138,8 +130,8 @@ TEST_CASE("grainscale loop names the lever arm in a small 2x DEM swung off its a
           "[studies][loop][lever_arm][dem]") {
   // Half the study's length, 7 s: three whole cycles from 1 s (about 2.3 min on 2 threads).
   const FloatingDesign small{5, 0.1, 10, 0.1, 0.00135, 7.0, 1.0, 7.0, 2, 30};
-  fs::path dir;
-  const YAML::Node out = run_design(small, "small", dir);
+  const TempDir dir("loop_dem_small");
+  const YAML::Node out = run_design(small, dir.path);
   INFO(slurp(dir / "loop/report.md"));
   // The motion the loop read from the scenario: the axis 0.8 m from the box, <omega^2> of a
   // +-35 deg, 0.5 Hz cosine (Omega^2 A^2 / 2 = 1.84 1/s^2).
@@ -158,7 +150,6 @@ TEST_CASE("grainscale loop names the lever arm in a small 2x DEM swung off its a
   CHECK(base_cv > 2.0);
   CHECK(lever_cv < 0.75 * base_cv);
   CHECK(lever_cv < 0.9 * ranked[1]["cv"]["error"].as<double>());
-  fs::remove_all(dir);
 }
 
 TEST_CASE("At the study's size the loop names the lever arm and halves the error beyond the noise",
@@ -168,8 +159,8 @@ TEST_CASE("At the study's size the loop names the lever arm and halves the error
   // (seed 12); beyond the noise -58 % and -54 %; S_l 0.221 and 0.210 m.
   const int seed = GENERATE(11, 12);
   const FloatingDesign study{seed, 0.2, 20, 0.2, 0.0027, 25.0, 2.0, 24.95, 4, 60};
-  fs::path dir;
-  const YAML::Node out = run_design(study, "study_" + std::to_string(seed), dir);
+  const TempDir dir("loop_dem_study");
+  const YAML::Node out = run_design(study, dir.path);
   INFO("seed " << seed << "\n" << slurp(dir / "loop/report.md"));
   CHECK(out["data"]["times"].as<int>() == 10);
   REQUIRE(out["chosen"].as<std::string>() == "lever_arm");
@@ -180,5 +171,4 @@ TEST_CASE("At the study's size the loop names the lever arm and halves the error
   CHECK(lever["error"].as<double>() < 0.55 * base["error"].as<double>());
   // Second by a wide margin.
   CHECK(lever["error"].as<double>() < 0.6 * out["candidates"][1]["cv"]["error"].as<double>());
-  fs::remove_all(dir);
 }
