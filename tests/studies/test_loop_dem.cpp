@@ -156,7 +156,7 @@ TEST_CASE("grainscale loop names the lever arm in a small 2x DEM swung off its a
 
 TEST_CASE("At the study's size the loop names the lever arm and halves the cross-validated error",
           "[.validate][studies][loop][lever_arm][dem]") {
-  // studies/loop_floating/off_axis.yaml (seed 11) and a second seed, 40 s each: about 20 min of DEM
+  // studies/loop_floating/off_axis.yaml (seed 11) and a second seed, 40 s each: about 25 min of DEM
   // and 6 min of loop per seed on 2 threads. Measured 2026-12-03: CV error 3.491 -> 1.567 (seed 11)
   // and 3.472 -> 1.692 (seed 12); beyond the noise -64 % and -59 %; S_l 0.208 and 0.188 m.
   const int seed = GENERATE(11, 12);
