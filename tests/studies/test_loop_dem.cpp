@@ -101,8 +101,7 @@ output: {folder: continuum, slice_width: )" + number(d.length / 4) + "}\n");
   // The model starts from the first whole cycle (its mean time cycles_from + 0.95 s) and is fitted to
   // the others, with the design's sigma.
   write(dir / "fit.yaml", "model: model.yaml\ndata: {fields: cg/fields.csv, field_sigma: " + number(d.field_sigma) +
-                              ", t0: " +
-                              number(d.cycles_from + 0.95) + ", from: " + number(d.cycles_from + 1.5) +
+                              ", t0: " + number(d.cycles_from + 0.95) + ", from: " + number(d.cycles_from + 1.5) +
                               ", min_solid_fraction: 0.1}\nfit: {parameters: [S, C, D0], max_iterations: " +
                               std::to_string(d.fit_iterations) + "}\noutput: fit\n");
   write(dir / "loop.yaml", R"(fit: fit.yaml
