@@ -1,5 +1,6 @@
 #include "dem/parallel.hpp"
 #include "dem/force_field.hpp"
+#include "dem/pair_batch.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -71,6 +72,92 @@ ForceDiagnostics ForceField::compute(Particles& p, NeighborList& nl, const std::
   return std::visit([&](const auto& m) { return compute_with(m, p, nl, walls, dt); }, models_);
 }
 
+/// Sphere i's wall contacts added to (f, t); histories found by (wall, feature) among last step's
+/// contacts of this particle.
+template <class Rolling>
+[[gnu::noinline]] ForceField::ForceTorque ForceField::add_wall_contacts(const Models<Rolling>& m, const Particles& p,
+                                                                     const std::vector<Wall>& walls, std::size_t i,
+                                                                     double dt, ForceTorque sum, WallStats& ws) {
+  Vec3 f = sum.force, t = sum.torque;
+  const int previous = count_scratch_[i];
+  const std::uint32_t near = near_walls_[i];
+  WallSlot* slots = &wall_slots_[i * kWallSlots];
+  const WallSlot* old = &wall_scratch_[i * kWallSlots];
+  int used = 0;
+  const Vec3 xi = p.x[i], vi = p.v[i], wi = p.omega[i];
+  const double ri = p.radius[i];
+  for (std::size_t w = 0; w < walls.size(); ++w) {
+    if (w < kMaskedWalls && !(near >> w & 1u)) continue;  // out of reach until the next list build
+    UninitializedArray<WallContact, kWallSlots + 1> wc;
+    const int found = walls[w].contacts(xi, ri, wc.data(), kWallSlots + 1);
+    for (int q = 0; q < found; ++q) {
+      if (used == kWallSlots) {
+        ws.overflow = std::min<std::int64_t>(ws.overflow, static_cast<std::int64_t>(i));
+        break;
+      }
+      // The slot is assembled in registers and stored once at the end: matching against fields
+      // just stored (a WallSlot built in memory) stalled on store forwarding (perf: a third of
+      // pass 2 on a bed lying on its floor).
+      WallSlot s{static_cast<std::int32_t>(w), wc[q].feature, {}};
+      bool matched = false;
+      for (int o = 0; o < previous; ++o) {
+        if (old[o].wall == static_cast<std::int32_t>(w) && old[o].feature == wc[q].feature) {
+          s.history = old[o].history, matched = true;
+        }
+      }
+      if (!matched && previous > 0) inherit_history(walls[w].geometry(), old, previous, wc.data(), found, s);
+      const WallPose& pose = walls[w].pose();
+      ContactKinematics c;
+      c.n = wc[q].normal;
+      c.overlap = wc[q].overlap;
+      c.lever_i = ri - c.overlap;
+      c.lever_j = 0;
+      c.omega_i = wi;
+      c.omega_j = pose.angular_velocity;
+      c.v_rel = vi - c.lever_i * cross(wi, c.n) - pose.surface_velocity(wc[q].point);
+      c.r_eff = ri;
+      c.mass_i = c.m_eff = p.mass[i];
+      c.mass_j = kInf;
+      c.inertia_i = p.inertia[i];
+      c.inertia_j = kInf;
+      c.dt = dt;
+      const int pair = p.material[i] * m.materials + wall_material_[w];
+      const ContactForce cf = HertzMindlin::evaluate(m.contact[pair], c, s.history);
+      Vec3 ti, tj;
+      Rolling::evaluate(m.rolling[pair], c, cf, s.history, ti, tj);
+      f += cf.force;
+      t += ti - c.lever_i * cross(c.n, cf.tangential);
+      slots[used++] = s;
+      ws.worst_ratio = std::max(ws.worst_ratio, c.overlap / ri);
+      ws.stiffness_per_mass = std::max(ws.stiffness_per_mass, cf.stiffness / c.m_eff);
+    }
+  }
+  ws.contacts += static_cast<std::size_t>(used);
+  wall_count_[i] = static_cast<std::uint8_t>(used);
+
+  return {f, t};
+}
+
+template <class Rolling>
+void ForceField::flush_pairs(PairBatch<Rolling>& b, double dt, Particles& p, NeighborList& nl, OwnerSum& open,
+                             double& worst_ratio, double& stiff_pair) {
+  b.evaluate(dt);
+  for (int c = 0; c < b.size; ++c) {
+    const std::uint32_t i = b.owner[c];
+    if (i != open.slot) {  // the open sphere has no more contacts: its sums are complete
+      if (open.slot < p.size()) p.force[open.slot] = open.force, p.torque[open.slot] = open.torque;
+      open = {i, {}, {}};
+    }
+    open.force += Vec3{b.fx[c], b.fy[c], b.fz[c]};
+    open.torque += Vec3{b.tix[c], b.tiy[c], b.tiz[c]};
+    partner_share_[b.rev[c]] = {{b.fx[c], b.fy[c], b.fz[c]}, {b.tjx[c], b.tjy[c], b.tjz[c]}};
+    nl.history(b.entry[c]) = {{b.sx[c], b.sy[c], b.sz[c]}, {b.rx[c], b.ry[c], b.rz[c]}};
+    worst_ratio = std::max(worst_ratio, b.overlap_ratio[c]);
+    stiff_pair = std::max(stiff_pair, b.stiffness_per_mass[c]);
+  }
+  b.size = 0;
+}
+
 template <class Rolling>
 ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p, NeighborList& nl,
                                           const std::vector<Wall>& walls, double dt) {
@@ -105,60 +192,72 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
 
   // Pass 1: every pair once, by its owner i. The owner's share is summed here, in entry order; the
   // partner's share is stored at the entry's place in the partner's reverse range, so that pass 2
-  // reads it in order (a scattered write here instead of a scattered read there).
-#pragma omp parallel for if(n >= parallel_min_items()) schedule(guided, 128) reduction(+ : contacts) reduction(max : worst_ratio, stiff_pair)
-  for (std::size_t i = 0; i < n; ++i) {
-    const Vec3 xi = p.x[i], vi = p.v[i], wi = p.omega[i];
-    const double ri = p.radius[i];
-    const int mi = p.material[i];
-    Vec3 fi{}, ti_sum{};
-    for (std::uint32_t k = nl.begin(i); k < nl.end(i); ++k) {
-      const std::uint32_t j = nl.partner(k);
-      const Vec3 d = xi - p.x[j];
-      const double rsum = ri + p.radius[j];
-      const double dist2 = norm2(d);
-      if (dist2 >= rsum * rsum) {
-        if (touching_[k]) {  // contact broken: history starts afresh next time
-          nl.history(k) = {};
-          touching_[k] = 0;
-          partner_touching_[nl.rev_position(k)] = 0;
+  // reads it in order (a scattered write here instead of a scattered read there). The entry loop
+  // only finds the touching pairs and gathers them into a batch per thread; a full batch is evaluated
+  // at once, vectorised, then summed and stored (dem/pair_batch.hpp; the same numbers as one contact
+  // at a time). A sphere's sums stay open across a batch that ends inside its entries.
+  // (Plain local pointers: a one-byte store through a member vector, the contact flags, may alias
+  // anything, and GCC reloaded every array's address from memory after each one.)
+  const Vec3 *const x = p.x.data(), *const v = p.v.data(), *const omega = p.omega.data();
+  const double *const radius = p.radius.data(), *const mass = p.mass.data(), *const inertia = p.inertia.data();
+  const std::int32_t* const material = p.material.data();
+  const std::uint32_t *const start = nl.starts().data(), *const partner = nl.partners().data();
+  const std::uint32_t* const rev_position = nl.rev_positions().data();
+  ContactHistory* const history = nl.history_data();
+  std::uint8_t *const touching = touching_.data(), *const partner_touching = partner_touching_.data();
+#pragma omp parallel if(n >= parallel_min_items()) reduction(+ : contacts) reduction(max : worst_ratio, stiff_pair)
+  {
+    PairBatch<Rolling> batch;
+    OwnerSum open{n};
+#pragma omp for schedule(guided, 128) nowait
+    for (std::size_t i = 0; i < n; ++i) {
+      const Vec3 xi = x[i], vi = v[i], wi = omega[i];
+      const double ri = radius[i], mass_i = mass[i], inertia_i = inertia[i];
+      const int row = material[i] * m.materials;
+      const std::uint32_t first = start[i], last = start[i + 1];
+      int b = batch.size;  // in a register, stored back before a flush
+      for (std::uint32_t k = first; k < last; ++k) {
+        const std::uint32_t j = partner[k];
+        const Vec3 d = xi - x[j];
+        const double rsum = ri + radius[j];
+        const double dist2 = norm2(d);
+        if (dist2 >= rsum * rsum) {
+          if (touching[k]) {  // contact broken: history starts afresh next time
+            history[k] = {};
+            touching[k] = 0;
+            partner_touching[rev_position[k]] = 0;
+          }
+          continue;
         }
-        continue;
+        touching[k] = 1;
+        ++contacts;
+        const std::uint32_t r = rev_position[k];
+        partner_touching[r] = 1;
+        batch.dx[b] = d.x, batch.dy[b] = d.y, batch.dz[b] = d.z;
+        batch.dist2[b] = dist2, batch.rsum[b] = rsum, batch.ri[b] = ri, batch.rj[b] = radius[j];
+        const Vec3 dv = vi - v[j], wj = omega[j];
+        batch.dvx[b] = dv.x, batch.dvy[b] = dv.y, batch.dvz[b] = dv.z;
+        batch.wix[b] = wi.x, batch.wiy[b] = wi.y, batch.wiz[b] = wi.z;
+        batch.wjx[b] = wj.x, batch.wjy[b] = wj.y, batch.wjz[b] = wj.z;
+        batch.mi[b] = mass_i, batch.mj[b] = mass[j], batch.ii[b] = inertia_i, batch.ij[b] = inertia[j];
+        const int pair = row + material[j];
+        batch.contact[b] = m.contact[pair];
+        batch.rolling[b] = m.rolling[pair];
+        const ContactHistory& h = history[k];
+        batch.sx[b] = h.shear.x, batch.sy[b] = h.shear.y, batch.sz[b] = h.shear.z;
+        batch.rx[b] = h.rolling.x, batch.ry[b] = h.rolling.y, batch.rz[b] = h.rolling.z;
+        batch.owner[b] = static_cast<std::uint32_t>(i), batch.entry[b] = k, batch.rev[b] = r;
+        if (++b == PairBatch<Rolling>::kCapacity) {
+          batch.size = b;
+          flush_pairs(batch, dt, p, nl, open, worst_ratio, stiff_pair);
+          b = 0;
+        }
       }
-      ContactHistory& h = nl.history(k);
-      touching_[k] = 1;
-      ++contacts;
-      const double dist = std::sqrt(dist2);
-      ContactKinematics c;
-      c.n = (1.0 / dist) * d;
-      c.overlap = rsum - dist;
-      c.lever_i = ri - 0.5 * c.overlap;
-      c.lever_j = p.radius[j] - 0.5 * c.overlap;
-      c.omega_i = wi;
-      c.omega_j = p.omega[j];
-      c.v_rel = vi - p.v[j] - cross(c.lever_i * wi + c.lever_j * c.omega_j, c.n);
-      c.r_eff = ri * p.radius[j] / rsum;
-      c.mass_i = p.mass[i];
-      c.mass_j = p.mass[j];
-      c.m_eff = c.mass_i * c.mass_j / (c.mass_i + c.mass_j);
-      c.inertia_i = p.inertia[i];
-      c.inertia_j = p.inertia[j];
-      c.dt = dt;
-      const int pair = mi * m.materials + p.material[j];
-      const ContactForce f = HertzMindlin::evaluate(m.contact[pair], c, h);
-      Vec3 ti, tj;
-      Rolling::evaluate(m.rolling[pair], c, f, h, ti, tj);
-      const Vec3 nxft = cross(c.n, f.tangential);
-      fi += f.force;
-      ti_sum += ti - c.lever_i * nxft;
-      const std::uint32_t r = nl.rev_position(k);
-      partner_share_[r] = {f.force, tj - c.lever_j * nxft};
-      partner_touching_[r] = 1;
-      worst_ratio = std::max(worst_ratio, c.overlap / std::min(ri, p.radius[j]));
-      stiff_pair = std::max(stiff_pair, f.stiffness / c.m_eff);
+      if (b == batch.size && open.slot != i) p.force[i] = {}, p.torque[i] = {};  // no contact
+      batch.size = b;
     }
-    p.force[i] = fi;
-    p.torque[i] = ti_sum;
+    flush_pairs(batch, dt, p, nl, open, worst_ratio, stiff_pair);
+    if (open.slot < n) p.force[open.slot] = open.force, p.torque[open.slot] = open.torque;
   }
 
   // Pass 2: add the partner shares in reverse-range order, and the sphere's wall contacts. (Gravity acts on
@@ -168,22 +267,29 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
   // smaller than a neighbour's distance in slots, leave half the partner shares written by one thread
   // and read by the other; guided's first chunks are half and a quarter of the spheres (17.3/17.3 ->
   // 18.1/17.6 M, A/B pairs).
+  // The wall contacts are a function of their own, not inlined: most spheres skip them, and inlined
+  // they left too few registers for the partner sum (perf: its running sum stored and reloaded on
+  // every entry).
   std::int64_t bad = std::numeric_limits<std::int64_t>::max();
   std::int64_t overflow = std::numeric_limits<std::int64_t>::max();
   double worst_wall = 0, stiff_wall = 0;
-#pragma omp parallel for if(n >= parallel_min_items()) schedule(guided, 128) reduction(+ : wall_contacts) reduction(min : bad, overflow) \
+  const std::uint32_t* const rev_start = nl.rev_starts().data();
+  const PartnerShare* const share = partner_share_.data();
+#pragma omp parallel if(n >= parallel_min_items()) reduction(+ : wall_contacts) reduction(min : bad, overflow) \
     reduction(max : worst_wall, stiff_wall)
+  {
+  WallStats ws;
+#pragma omp for schedule(guided, 128) nowait
   for (std::size_t i = 0; i < n; ++i) {
     Vec3 f = p.force[i], t = p.torque[i];  // the owner's share, from pass 1
-    for (std::uint32_t r = nl.rev_begin(i); r < nl.rev_end(i); ++r) {
-      if (!partner_touching_[r]) continue;
-      f -= partner_share_[r].force;
-      t += partner_share_[r].torque;
+    for (std::uint32_t r = rev_start[i]; r < rev_start[i + 1]; ++r) {
+      if (!partner_touching[r]) continue;
+      f -= share[r].force;
+      t += share[r].torque;
     }
 
-    // Wall contacts; histories found by (wall, feature) among last step's contacts of this particle.
-    // A sphere's slots are a cache line or more apart from the next one's, and only spheres at a wall
-    // use them, so no hardware prefetcher follows: fetch them a few spheres ahead.
+    // A sphere's wall slots are a cache line or more apart from the next one's, and only spheres at
+    // a wall use them, so no hardware prefetcher follows: fetch them a few spheres ahead.
     if (i + kPrefetchAhead < n && count_scratch_[i + kPrefetchAhead] > 0) {
       // (A slot is 56 bytes: its first one may straddle two lines.)
       const char* old_slots = reinterpret_cast<const char*>(&wall_scratch_[(i + kPrefetchAhead) * kWallSlots]);
@@ -193,67 +299,22 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
     }
     const int previous = count_scratch_[i];
     const std::uint32_t near = near_walls_[i];
-    wall_count_[i] = 0;
     // Most of a bed has no wall within reach and had no wall contact: skip the lot.
     if (previous > 0 || near != 0 || walls.size() > kMaskedWalls) {
-      WallSlot* slots = &wall_slots_[i * kWallSlots];
-      const WallSlot* old = &wall_scratch_[i * kWallSlots];
-      int used = 0;
-      const Vec3 xi = p.x[i], vi = p.v[i], wi = p.omega[i];
-      const double ri = p.radius[i];
-      for (std::size_t w = 0; w < walls.size(); ++w) {
-        if (w < kMaskedWalls && !(near >> w & 1u)) continue;  // out of reach until the next list build
-        UninitializedArray<WallContact, kWallSlots + 1> wc;
-        const int found = walls[w].contacts(xi, ri, wc.data(), kWallSlots + 1);
-        for (int q = 0; q < found; ++q) {
-          if (used == kWallSlots) {
-            overflow = std::min<std::int64_t>(overflow, static_cast<std::int64_t>(i));
-            break;
-          }
-          // The slot is assembled in registers and stored once at the end: matching against fields
-          // just stored (a WallSlot built in memory) stalled on store forwarding (perf: a third of
-          // pass 2 on a bed lying on its floor).
-          WallSlot s{static_cast<std::int32_t>(w), wc[q].feature, {}};
-          bool matched = false;
-          for (int o = 0; o < previous; ++o) {
-            if (old[o].wall == static_cast<std::int32_t>(w) && old[o].feature == wc[q].feature) {
-              s.history = old[o].history, matched = true;
-            }
-          }
-          if (!matched && previous > 0) inherit_history(walls[w].geometry(), old, previous, wc.data(), found, s);
-          const WallPose& pose = walls[w].pose();
-          ContactKinematics c;
-          c.n = wc[q].normal;
-          c.overlap = wc[q].overlap;
-          c.lever_i = ri - c.overlap;
-          c.lever_j = 0;
-          c.omega_i = wi;
-          c.omega_j = pose.angular_velocity;
-          c.v_rel = vi - c.lever_i * cross(wi, c.n) - pose.surface_velocity(wc[q].point);
-          c.r_eff = ri;
-          c.mass_i = c.m_eff = p.mass[i];
-          c.mass_j = kInf;
-          c.inertia_i = p.inertia[i];
-          c.inertia_j = kInf;
-          c.dt = dt;
-          const int pair = p.material[i] * m.materials + wall_material_[w];
-          const ContactForce cf = HertzMindlin::evaluate(m.contact[pair], c, s.history);
-          Vec3 ti, tj;
-          Rolling::evaluate(m.rolling[pair], c, cf, s.history, ti, tj);
-          f += cf.force;
-          t += ti - c.lever_i * cross(c.n, cf.tangential);
-          slots[used++] = s;
-          worst_wall = std::max(worst_wall, c.overlap / ri);
-          stiff_wall = std::max(stiff_wall, cf.stiffness / c.m_eff);
-        }
-      }
-      wall_contacts += static_cast<std::size_t>(used);
-      wall_count_[i] = static_cast<std::uint8_t>(used);
+      const ForceTorque ft = add_wall_contacts(m, p, walls, i, dt, {f, t}, ws);
+      f = ft.force, t = ft.torque;
+    } else {
+      wall_count_[i] = 0;
     }
 
     p.force[i] = f;
     p.torque[i] = t;
     if (!is_finite(f) || !is_finite(t)) bad = std::min<std::int64_t>(bad, static_cast<std::int64_t>(i));
+  }
+  wall_contacts += ws.contacts;
+  overflow = std::min(overflow, ws.overflow);
+  worst_wall = std::max(worst_wall, ws.worst_ratio);
+  stiff_wall = std::max(stiff_wall, ws.stiffness_per_mass);
   }
 
   ForceDiagnostics d;

@@ -11,6 +11,7 @@
 // bounded the step: docs/performance.md). No two threads write the same memory, so results are
 // bitwise identical for any thread count.
 #include <cstdint>
+#include <limits>
 #include <variant>
 #include <vector>
 
@@ -26,6 +27,9 @@
 #include "dem/wall.hpp"
 
 namespace grainscale::dem {
+
+template <class Rolling>
+struct PairBatch;
 
 /// Worst state seen while computing forces; used by the blow-up check.
 struct ForceDiagnostics {
@@ -96,6 +100,28 @@ class ForceField {
   template <class Rolling>
   ForceDiagnostics compute_with(const Models<Rolling>& m, Particles& p, NeighborList& nl, const std::vector<Wall>& walls,
                                 double dt);
+
+  /// Sums of the owner's shares of the sphere whose batched contacts are being added (pass 1).
+  struct OwnerSum {
+    std::size_t slot;  // >= the sphere count: none yet
+    Vec3 force{}, torque{};
+  };
+  template <class Rolling>
+  void flush_pairs(PairBatch<Rolling>& b, double dt, Particles& p, NeighborList& nl, OwnerSum& open,
+                   double& worst_ratio, double& stiff_pair);
+
+  struct ForceTorque {
+    Vec3 force, torque;
+  };
+  /// The wall contacts' part of the step's diagnostics, per thread.
+  struct WallStats {
+    std::size_t contacts = 0;
+    std::int64_t overflow = std::numeric_limits<std::int64_t>::max();
+    double worst_ratio = 0, stiffness_per_mass = 0;
+  };
+  template <class Rolling>
+  ForceTorque add_wall_contacts(const Models<Rolling>& m, const Particles& p, const std::vector<Wall>& walls,
+                                std::size_t i, double dt, ForceTorque sum, WallStats& ws);
 
   AnyModels models_;
   std::vector<int> wall_material_;

@@ -76,6 +76,10 @@ class NeighborList {
   const std::vector<std::uint32_t>& starts() const { return start_; }
   const std::vector<std::uint32_t>& partners() const { return partner_; }
   const std::vector<ContactHistory>& histories() const { return history_; }
+  /// The reverse index as arrays (the force loop reads them through plain pointers).
+  const std::vector<std::uint32_t>& rev_starts() const { return rev_start_; }
+  const std::vector<std::uint32_t>& rev_positions() const { return rev_position_; }
+  ContactHistory* history_data() { return history_.data(); }
   /// Reinstate a list saved from starts(), partners() and histories() for particles `p` in the slot
   /// order they had then (plus any added since, at the end); the reverse index is rebuilt from it. The next build() carries the
   /// histories over exactly as it would have from the original list. Throws std::invalid_argument

@@ -27,5 +27,8 @@ constexpr Vec3 cross(const Vec3& a, const Vec3& b) {
 constexpr double norm2(const Vec3& a) { return dot(a, a); }
 inline double norm(const Vec3& a) { return std::sqrt(dot(a, a)); }
 inline bool is_finite(const Vec3& a) { return std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.z); }
+/// c ? a : b, component by component: a branch-free choice, so that a loop over contacts written with
+/// it vectorises (dem/pair_batch.hpp); both a and b are computed, only one is kept.
+constexpr Vec3 select(bool c, const Vec3& a, const Vec3& b) { return {c ? a.x : b.x, c ? a.y : b.y, c ? a.z : b.z}; }
 
 }  // namespace grainscale::dem

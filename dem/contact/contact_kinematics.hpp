@@ -36,12 +36,14 @@ struct ContactForce {
 
 /// Keep a history vector in the current tangent plane without changing its length: the contact
 /// frame turns with the bodies, so a stored displacement must turn with it (Luding 2008, Sec. 3.2).
+/// (Branch-free, the same values as "if (before == 0) return; h -= (h.n) n; if (after > 0) h *= ...",
+/// so that a batch of contacts vectorises: dem/pair_batch.hpp.)
 inline void project_to_tangent_plane(Vec3& h, const Vec3& n) {
   const double before = norm2(h);
-  if (before == 0) return;
-  h -= dot(h, n) * n;
-  const double after = norm2(h);
-  if (after > 0) h *= std::sqrt(before / after);
+  const Vec3 in_plane = h - dot(h, n) * n;
+  const double after = norm2(in_plane);
+  const Vec3 scaled = std::sqrt(before / after) * in_plane;  // not kept unless after > 0
+  h = select(before == 0, h, select(after > 0, scaled, in_plane));
 }
 
 }  // namespace grainscale::dem

@@ -70,12 +70,12 @@ struct HertzMindlin {
     // so that spring + dashpot = friction, as MercuryDPM does for linear springs, stores a negative
     // displacement that the growing Hertz-Mindlin stiffness turns into friction pointing the wrong way
     // on the next step.)
+    // (Both branches computed and one kept, so that a batch of contacts vectorises.)
     const double limit = p.friction * std::max(f_n, 0.0);
     const double trial2 = norm2(f_t);
-    if (trial2 > limit * limit) {
-      f_t *= limit / std::sqrt(trial2);
-      h.shear = (-1.0 / s_t) * f_t;
-    }
+    const bool sliding = trial2 > limit * limit;
+    f_t = select(sliding, (limit / std::sqrt(trial2)) * f_t, f_t);
+    h.shear = select(sliding, (-1.0 / s_t) * f_t, h.shear);
     return {f_n * c.n + f_t, f_t, f_n, s_n};
   }
 

@@ -26,10 +26,10 @@ struct ConstantTorqueRolling {
   static Params make(const PairProperties& p) { return {p.rolling_friction}; }
 
   static Vec3 resist(double mu_r, double f_n, double lever, const Vec3& omega, double inertia, double dt) {
+    // (Branch-free: both outcomes computed, one kept, so that a batch of contacts vectorises.)
     const double w = norm(omega);
-    if (w == 0 || !std::isfinite(inertia)) return {};
     const double tau = std::min(mu_r * std::max(f_n, 0.0) * lever, inertia * w / dt);
-    return (-tau / w) * omega;
+    return select(w == 0 || !std::isfinite(inertia), Vec3{}, (-tau / w) * omega);
   }
 
   static void evaluate(const Params& p, const ContactKinematics& c, const ContactForce& f, ContactHistory&,
