@@ -1,5 +1,6 @@
 #include "dem/parallel.hpp"
 #include "dem/simulation.hpp"
+#include "dem/rotation_batch.hpp"
 
 #include <algorithm>
 #include <cassert>
@@ -534,13 +535,36 @@ void Simulation::drift(double dt) {
   const std::size_t slack_n = neighbors_.slack2().size();
 #pragma omp parallel if(n >= parallel_min_items())
   {
+    // Bodies in chunks: the anisotropic ones' rotations are evaluated together, vectorised
+    // (dem/rotation_batch.hpp; the same numbers as one body at a time).
+    RotationBatch batch;
 #pragma omp for schedule(static)
-    for (std::size_t k = 0; k < nb; ++k) {
-      b.v[k] += (half * b.inv_mass[k]) * b.force[k];
-      b.L[k] += half * b.torque[k];
-      b.x[k] += dt * b.v[k];
-      free_rotation_step(b.q[k], b.L[k], b.inertia[k], dt);
-      b.omega[k] = body_angular_velocity(b.q[k], b.L[k], b.inertia[k]);
+    for (std::size_t first = 0; first < nb; first += RotationBatch::kCapacity) {
+      const std::size_t last = std::min(nb, first + RotationBatch::kCapacity);
+      batch.size = 0;
+      for (std::size_t k = first; k < last; ++k) {
+        b.v[k] += (half * b.inv_mass[k]) * b.force[k];
+        b.L[k] += half * b.torque[k];
+        b.x[k] += dt * b.v[k];
+        const Vec3& inertia = b.inertia[k];
+        if (inertia.x == inertia.y && inertia.y == inertia.z) {  // a sphere: one exact rotation
+          free_rotation_step(b.q[k], b.L[k], inertia, dt);
+          b.omega[k] = body_angular_velocity(b.q[k], b.L[k], inertia);
+        } else {
+          batch.add(static_cast<std::uint32_t>(k), b.q[k], b.L[k], inertia);
+        }
+      }
+      batch.rotate(dt);
+      for (int c = 0; c < batch.size; ++c) {
+        const std::uint32_t k = batch.body[c];
+        if (batch.in_range[c]) {
+          b.q[k] = {batch.qw[c], batch.qx[c], batch.qy[c], batch.qz[c]};
+          b.omega[k] = {batch.wx[c], batch.wy[c], batch.wz[c]};
+        } else {  // turned too far in one step for the series: the general path, from the old q
+          free_rotation_step(b.q[k], b.L[k], b.inertia[k], dt);
+          b.omega[k] = body_angular_velocity(b.q[k], b.L[k], b.inertia[k]);
+        }
+      }
     }
 #pragma omp for schedule(static) reduction(max : moved2)
     for (std::size_t s = 0; s < n; ++s) moved2 = std::max(moved2, follow_body(p, b, s, slack, slack_n));
