@@ -11,7 +11,10 @@
 #include "dem/contact/rolling_constant_torque.hpp"
 #include "dem/contact/rolling_epsd.hpp"
 #include "dem/contact/rolling_none.hpp"
+#include "dem/force_field.hpp"
+#include "dem/neighbor_list.hpp"
 #include "dem/pair_batch.hpp"
+#include "dem/particles.hpp"
 
 using namespace grainscale::dem;
 
@@ -126,4 +129,92 @@ TEMPLATE_TEST_CASE("A vectorised batch of pair contacts gives one contact at a t
   INFO(sliding << " of " << b.size << " contacts sliding");
   CHECK(sliding > 3);  // the Coulomb branch is taken by some, not all
   CHECK(sliding < b.size - 3);
+}
+
+TEST_CASE("A sphere with more contacts than a batch holds gets the one-at-a-time loop's force and torque bit for bit",
+          "[dem][contact]") {
+  // A big sphere with 150 small ones pressed onto it: its contacts span several batches, so its sums
+  // stay open across flushes. Every sphere's force and torque must be what the loop gave before
+  // batching: the owner's contacts in entry order, then the partner shares in reverse-range order.
+  MaterialTable materials;
+  const int m = materials.add({"grain", 1380, 2.6e6, 0.3});
+  materials.set_pair(m, m, {0.5, 0.35, 0.08, true});
+  Particles p;
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(-1, 1);
+  const double big = 0.01, small = 0.001, skin = 0.0005, dt = 1e-6;
+  p.add_sphere(0, m, big, 1380, {0, 0, 0}, {0.01, 0, 0}, {0, 0, 5});
+  for (int s = 1; s <= 150; ++s) {
+    Vec3 dir{u(rng), u(rng), u(rng)};
+    dir = (1.0 / norm(dir)) * dir;
+    const double gap = -2e-5 * (1 + u(rng));  // pressed in by up to 40 um
+    p.add_sphere(s, m, small, 1380, (big + small + gap) * dir, 0.05 * Vec3{u(rng), u(rng), u(rng)},
+                 20 * Vec3{u(rng), u(rng), u(rng)});
+  }
+  NeighborList nl;
+  const auto order = nl.sort_by_cell(p, skin);
+  p.permute(order);
+  nl.build(p, skin, order);
+  for (std::uint32_t k = 0; k < nl.entries(); ++k) {  // loaded springs: some contacts slide
+    nl.history(k).shear = 1e-6 * Vec3{u(rng), u(rng), u(rng)};
+  }
+  const NeighborList before = nl;
+  std::size_t most = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) most = std::max<std::size_t>(most, nl.end(i) - nl.begin(i));
+  INFO("most entries owned by one sphere: " << most);
+  REQUIRE(most > 2 * PairBatch<ConstantTorqueRolling>::kCapacity);
+
+  ForceField ff;
+  const std::vector<Wall> walls;
+  ff.setup(materials, walls, RollingSettings{});
+  ff.compute(p, nl, walls, dt);
+
+  // The loop as it was, one contact at a time.
+  const HertzMindlin::Params hm = HertzMindlin::make(materials[m], materials[m], materials.pair(m, m));
+  const ConstantTorqueRolling::Params roll = ConstantTorqueRolling::make(materials.pair(m, m));
+  const std::size_t n = p.size();
+  std::vector<Vec3> f(n), t(n), share_f(nl.entries()), share_t(nl.entries());
+  std::vector<bool> touching(nl.entries());
+  NeighborList ref = before;
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::uint32_t k = ref.begin(i); k < ref.end(i); ++k) {
+      const std::uint32_t j = ref.partner(k);
+      const Vec3 d = p.x[i] - p.x[j];
+      const double rsum = p.radius[i] + p.radius[j];
+      if (norm2(d) >= rsum * rsum) continue;
+      PairBatch<ConstantTorqueRolling> one;
+      one.size = 1;
+      one.dx[0] = d.x, one.dy[0] = d.y, one.dz[0] = d.z, one.dist2[0] = norm2(d), one.rsum[0] = rsum;
+      one.ri[0] = p.radius[i], one.rj[0] = p.radius[j];
+      const Vec3 dv = p.v[i] - p.v[j];
+      one.dvx[0] = dv.x, one.dvy[0] = dv.y, one.dvz[0] = dv.z;
+      one.wix[0] = p.omega[i].x, one.wiy[0] = p.omega[i].y, one.wiz[0] = p.omega[i].z;
+      one.wjx[0] = p.omega[j].x, one.wjy[0] = p.omega[j].y, one.wjz[0] = p.omega[j].z;
+      one.mi[0] = p.mass[i], one.mj[0] = p.mass[j], one.ii[0] = p.inertia[i], one.ij[0] = p.inertia[j];
+      one.contact[0] = hm, one.rolling[0] = roll;
+      const ContactHistory& h = ref.history(k);
+      one.sx[0] = h.shear.x, one.sy[0] = h.shear.y, one.sz[0] = h.shear.z;
+      one.rx[0] = h.rolling.x, one.ry[0] = h.rolling.y, one.rz[0] = h.rolling.z;
+      const OneContact c = one_contact(one, 0, dt);
+      f[i] += c.force;
+      t[i] += c.torque_i;
+      share_f[ref.rev_position(k)] = c.force, share_t[ref.rev_position(k)] = c.torque_j;
+      touching[ref.rev_position(k)] = true;
+    }
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::uint32_t r = ref.rev_begin(i); r < ref.rev_end(i); ++r) {
+      if (!touching[r]) continue;
+      f[i] -= share_f[r];
+      t[i] += share_t[r];
+    }
+  }
+  int contacts = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    INFO("sphere id " << p.id[i]);
+    CHECK(same_bits(p.force[i], f[i]));
+    CHECK(same_bits(p.torque[i], t[i]));
+  }
+  for (std::size_t r = 0; r < touching.size(); ++r) contacts += touching[r];
+  CHECK(contacts > 2 * PairBatch<ConstantTorqueRolling>::kCapacity);
 }
