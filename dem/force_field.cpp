@@ -87,7 +87,7 @@ template <class Rolling>
   const Vec3 xi = p.x[i], vi = p.v[i], wi = p.omega[i];
   const double ri = p.radius[i];
   for (std::size_t w = 0; w < walls.size(); ++w) {
-    if (w < kMaskedWalls && !(near >> w & 1u)) continue;  // out of reach until the next list build
+    if (w < kMaskedWalls && !(near >> w & 1u)) continue;  // out of reach until the masks are made again
     UninitializedArray<WallContact, kWallSlots + 1> wc;
     const int found = walls[w].contacts(xi, ri, wc.data(), kWallSlots + 1);
     for (int q = 0; q < found; ++q) {
@@ -328,48 +328,70 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
 }
 
 void ForceField::find_near_walls(const Particles& p, const std::vector<Wall>& walls, const NeighborList& nl) {
-  // A static wall can touch sphere i before the next list build only if it is within r_i + skin/2 of
-  // where the sphere is now (the list is rebuilt once a sphere has moved skin/2); a whole skin
-  // leaves room for round-off. A moving wall, or one beyond the mask, is always asked; so is every
-  // wall for a stray with slack (it may move further than skin/2 before the next build).
+  // Sphere i may touch wall w before the masks are made again only if, seen from the wall's frame,
+  // it is now within r_i + reach of the wall, where reach covers
+  //   - the sphere's own travel: at most skin/2 from where the list was built, so at most a skin
+  //     from where it is now (the masks may be made between builds), plus half a skin for round-off;
+  //   - the wall's travel: a moving wall gets kMovingWallMargin; the masks are made again once some
+  //     point of the region the spheres occupy has moved that far in the wall's frame
+  //     (walls_where_found). A static wall's margin is 0: any new pose means new masks.
+  // Every wall is asked for a stray with slack (it may move further than skin/2 before the next
+  // build), and walls beyond the mask always.
   const double skin = nl.skin();
   const std::vector<double>& slack = nl.slack2();
   const std::size_t n = p.size();
+  const std::size_t masked = std::min(walls.size(), kMaskedWalls);
   near_walls_.resize(n);
-  std::uint32_t always = 0;
-  for (std::size_t w = 0; w < std::min(walls.size(), kMaskedWalls); ++w) {
-    if (walls[w].moving()) always |= 1u << w;
+  mask_margin_.assign(masked, 0.0);
+  for (std::size_t w = 0; w < masked; ++w) {
+    if (walls[w].moving()) mask_margin_[w] = kMovingWallMargin * skin;
   }
-#pragma omp parallel for if(n >= parallel_min_items()) schedule(static)
+  double lox = kInf, loy = kInf, loz = kInf, hix = -kInf, hiy = -kInf, hiz = -kInf;
+#pragma omp parallel for if(n >= parallel_min_items()) schedule(static) reduction(min : lox, loy, loz) \
+    reduction(max : hix, hiy, hiz)
   for (std::size_t i = 0; i < n; ++i) {
-    std::uint32_t near = always;
-    if (i < slack.size() && slack[i] > 0) near = ~0u;
-    for (std::size_t w = 0; w < std::min(walls.size(), kMaskedWalls); ++w) {
+    std::uint32_t near = 0;
+    if (i < slack.size() && slack[i] > 0) {
+      near = ~0u;
+    } else {
+      const Vec3 x = p.x[i];
+      lox = std::min(lox, x.x), loy = std::min(loy, x.y), loz = std::min(loz, x.z);
+      hix = std::max(hix, x.x), hiy = std::max(hiy, x.y), hiz = std::max(hiz, x.z);
+    }
+    for (std::size_t w = 0; w < masked; ++w) {
       if (near >> w & 1u) continue;
       WallContact wc[kWallSlots + 1];
-      if (walls[w].contacts(p.x[i], p.radius[i] + skin, wc, kWallSlots + 1) > 0) near |= 1u << w;
+      if (walls[w].contacts(p.x[i], p.radius[i] + 1.5 * skin + mask_margin_[w], wc, kWallSlots + 1) > 0) {
+        near |= 1u << w;
+      }
     }
     near_walls_[i] = near;
   }
+  mask_region_lo_ = {lox, loy, loz}, mask_region_hi_ = {hix, hiy, hiz};
   mask_poses_.clear();
   for (const Wall& w : walls) mask_poses_.push_back(w.pose());
-  mask_moving_ = always;
 }
 
 bool ForceField::walls_where_found(const std::vector<Wall>& walls) const {
-  // The masks hold for static walls where they were when the masks were made (a wall given a new
-  // pose between steps, or a wall added, needs new masks).
+  // The masks hold while no point of the spheres' region (the box around their positions when the
+  // masks were made) has moved further than the wall's margin in the wall's frame. The distance
+  // |P^-1 y - P0^-1 y| between where a world point y sits in the wall's frame now (P) and then (P0)
+  // is convex in y (the difference of two rigid maps is affine), so its largest value over the box
+  // is at a corner. A wall added, or one that started or stopped moving, needs new masks too.
   if (mask_poses_.size() != walls.size() || near_walls_.empty()) return false;
-  for (std::size_t w = 0; w < walls.size(); ++w) {
-    if (w < kMaskedWalls && walls[w].moving() != static_cast<bool>(mask_moving_ >> w & 1u)) return false;
-    if (walls[w].moving()) continue;
-    const WallPose& a = walls[w].pose();
-    const WallPose& b = mask_poses_[w];
-    if (a.origin.x != b.origin.x || a.origin.y != b.origin.y || a.origin.z != b.origin.z ||
-        a.orientation.w != b.orientation.w || a.orientation.x != b.orientation.x ||
-        a.orientation.y != b.orientation.y || a.orientation.z != b.orientation.z) {
-      return false;
+  const std::size_t masked = std::min(walls.size(), kMaskedWalls);
+  if (mask_region_lo_.x > mask_region_hi_.x) return true;  // no sphere outside the strays
+  for (std::size_t w = 0; w < masked; ++w) {
+    if ((mask_margin_[w] > 0) != walls[w].moving()) return false;
+    const WallPose& now = walls[w].pose();
+    const WallPose& then = mask_poses_[w];
+    double shift2 = 0;
+    for (int corner = 0; corner < 8; ++corner) {
+      const Vec3 y{corner & 1 ? mask_region_hi_.x : mask_region_lo_.x, corner & 2 ? mask_region_hi_.y : mask_region_lo_.y,
+                   corner & 4 ? mask_region_hi_.z : mask_region_lo_.z};
+      shift2 = std::max(shift2, norm2(now.to_body(y) - then.to_body(y)));
     }
+    if (!(shift2 <= mask_margin_[w] * mask_margin_[w])) return false;
   }
   return true;
 }

@@ -138,13 +138,16 @@ class ForceField {
   // no writes. Both rebuilt from the histories when the list changes (generation).
   std::vector<std::uint8_t> touching_, partner_touching_;
   std::uint64_t list_generation_ = ~std::uint64_t{0};
-  // near_walls_[i] bit w: static wall w (w < kMaskedWalls) may touch sphere i before the next list
-  // build; found when the list is built (the profile had a box wall's distance test at 4 % of a
-  // settled clump bed, for spheres nowhere near it). Moving walls are always asked.
+  // near_walls_[i] bit w: wall w (w < kMaskedWalls) may touch sphere i before the masks are made
+  // again: at each list build, and when a wall has moved further than its margin (find_near_walls
+  // says how). The profile had a box wall's distance test at 4 % of a settled clump bed, and a moving
+  // mesh box's at a third of the default study, for spheres nowhere near it.
   static constexpr std::size_t kMaskedWalls = 32;
+  static constexpr double kMovingWallMargin = 0.5;  // skins a moving wall may travel between masks
   std::vector<std::uint32_t> near_walls_;
-  std::vector<WallPose> mask_poses_;  // the walls' poses when the masks were made
-  std::uint32_t mask_moving_ = 0;     // and which of them were moving
+  std::vector<WallPose> mask_poses_;    // the walls' poses when the masks were made
+  std::vector<double> mask_margin_;     // and their margins (0: static)
+  Vec3 mask_region_lo_, mask_region_hi_;  // box around the spheres (strays aside) then
   void find_near_walls(const Particles& p, const std::vector<Wall>& walls, const NeighborList& nl);
   bool walls_where_found(const std::vector<Wall>& walls) const;
   // kWallSlots per particle, the first wall_count_[i] used; the scratch pair holds the step before

@@ -134,3 +134,42 @@ TEST_CASE("Tilt table: a clump on a slowly tilting floor starts to slide within 
   INFO("mu = " << mu << ": friction angle " << onset << " deg, slid at " << slide_angle << " deg");
   CHECK_THAT(slide_angle, WithinAbs(onset, 0.5));
 }
+
+TEST_CASE("A rocking box finds every wall contact, though it asks only the spheres within reach of it",
+          "[dem][motion][walls]") {
+  // ForceField asks a wall about a sphere only if the sphere was within reach of it, in the wall's
+  // frame, when the masks were made, and makes them again once the wall has moved half a skin in
+  // the spheres' region. A rocking box (+-20 deg at 2 Hz about a pivot 0.2 m away, so its floor
+  // sweeps ~0.07 m) with a loose bed that slides to and fro in it: at every step the contacts found
+  // must be exactly those a search over every sphere and wall finds.
+  const double r = 0.003;
+  Simulation sim(grain_and_floor(0.3), SimulationSettings{});
+  for (int ix = 0; ix < 12; ++ix)
+    for (int iy = 0; iy < 4; ++iy)
+      for (int iz = 0; iz < 3; ++iz) {
+        sim.add_sphere(0, r, {0.01 + 0.0075 * ix, 0.008 + 0.0075 * iy, 0.004 + 0.0065 * iz});
+      }
+  sim.add_wall("box", std::make_shared<MeshGeometry>(box_mesh({0, 0, 0}, {0.1, 0.04, 0.06}, {1, 1, 1, 1, 1, 0})), 1);
+  std::array<SinusoidalMotion::Dof, 6> d{};
+  d[0] = {20 * std::numbers::pi / 180, 2.0, 0};  // roll about x
+  sim.walls().back().set_motion({std::make_shared<SinusoidalMotion>(d), {0.05, 0.02, -0.2}});
+  sim.setup();
+  std::size_t worst_miss = 0, most = 0, builds_seen = sim.neighbors().builds();
+  const int steps = static_cast<int>(0.5 / sim.dt());
+  for (int s = 0; s < steps; ++s) {
+    sim.step();
+    std::size_t expected = 0;
+    const Particles& p = sim.particles();
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      WallContact wc[ForceField::kWallSlots + 1];
+      expected += static_cast<std::size_t>(sim.walls()[0].contacts(p.x[i], p.radius[i], wc, ForceField::kWallSlots + 1));
+    }
+    const std::size_t found = sim.diagnostics().wall_contacts;
+    worst_miss = std::max(worst_miss, expected > found ? expected - found : found - expected);
+    most = std::max(most, expected);
+  }
+  INFO(steps << " steps, " << sim.neighbors().builds() - builds_seen << " list builds, up to " << most
+              << " wall contacts");
+  CHECK(worst_miss == 0);
+  CHECK(most > 40);  // the bed lay on the floor and slid into the side walls
+}
