@@ -278,43 +278,43 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
 #pragma omp parallel if(n >= parallel_min_items()) reduction(+ : wall_contacts) reduction(min : bad, overflow) \
     reduction(max : worst_wall, stiff_wall)
   {
-  WallStats ws;
+    WallStats ws;
 #pragma omp for schedule(guided, 128) nowait
-  for (std::size_t i = 0; i < n; ++i) {
-    Vec3 f = p.force[i], t = p.torque[i];  // the owner's share, from pass 1
-    for (std::uint32_t r = rev_start[i]; r < rev_start[i + 1]; ++r) {
-      if (!partner_touching[r]) continue;
-      f -= share[r].force;
-      t += share[r].torque;
-    }
+    for (std::size_t i = 0; i < n; ++i) {
+      Vec3 f = p.force[i], t = p.torque[i];  // the owner's share, from pass 1
+      for (std::uint32_t r = rev_start[i]; r < rev_start[i + 1]; ++r) {
+        if (!partner_touching[r]) continue;
+        f -= share[r].force;
+        t += share[r].torque;
+      }
 
-    // A sphere's wall slots are a cache line or more apart from the next one's, and only spheres at
-    // a wall use them, so no hardware prefetcher follows: fetch them a few spheres ahead.
-    if (i + kPrefetchAhead < n && count_scratch_[i + kPrefetchAhead] > 0) {
-      // (A slot is 56 bytes: its first one may straddle two lines.)
-      const char* old_slots = reinterpret_cast<const char*>(&wall_scratch_[(i + kPrefetchAhead) * kWallSlots]);
-      const char* new_slots = reinterpret_cast<const char*>(&wall_slots_[(i + kPrefetchAhead) * kWallSlots]);
-      __builtin_prefetch(old_slots), __builtin_prefetch(old_slots + sizeof(WallSlot) - 1);
-      __builtin_prefetch(new_slots, 1), __builtin_prefetch(new_slots + sizeof(WallSlot) - 1, 1);
-    }
-    const int previous = count_scratch_[i];
-    const std::uint32_t near = near_walls_[i];
-    // Most of a bed has no wall within reach and had no wall contact: skip the lot.
-    if (previous > 0 || near != 0 || walls.size() > kMaskedWalls) {
-      const ForceTorque ft = add_wall_contacts(m, p, walls, i, dt, {f, t}, ws);
-      f = ft.force, t = ft.torque;
-    } else {
-      wall_count_[i] = 0;
-    }
+      // A sphere's wall slots are a cache line or more apart from the next one's, and only spheres at
+      // a wall use them, so no hardware prefetcher follows: fetch them a few spheres ahead.
+      if (i + kPrefetchAhead < n && count_scratch_[i + kPrefetchAhead] > 0) {
+        // (A slot is 56 bytes: its first one may straddle two lines.)
+        const char* old_slots = reinterpret_cast<const char*>(&wall_scratch_[(i + kPrefetchAhead) * kWallSlots]);
+        const char* new_slots = reinterpret_cast<const char*>(&wall_slots_[(i + kPrefetchAhead) * kWallSlots]);
+        __builtin_prefetch(old_slots), __builtin_prefetch(old_slots + sizeof(WallSlot) - 1);
+        __builtin_prefetch(new_slots, 1), __builtin_prefetch(new_slots + sizeof(WallSlot) - 1, 1);
+      }
+      const int previous = count_scratch_[i];
+      const std::uint32_t near = near_walls_[i];
+      // Most of a bed has no wall within reach and had no wall contact: skip the lot.
+      if (previous > 0 || near != 0 || walls.size() > kMaskedWalls) {
+        const ForceTorque ft = add_wall_contacts(m, p, walls, i, dt, {f, t}, ws);
+        f = ft.force, t = ft.torque;
+      } else {
+        wall_count_[i] = 0;
+      }
 
-    p.force[i] = f;
-    p.torque[i] = t;
-    if (!is_finite(f) || !is_finite(t)) bad = std::min<std::int64_t>(bad, static_cast<std::int64_t>(i));
-  }
-  wall_contacts += ws.contacts;
-  overflow = std::min(overflow, ws.overflow);
-  worst_wall = std::max(worst_wall, ws.worst_ratio);
-  stiff_wall = std::max(stiff_wall, ws.stiffness_per_mass);
+      p.force[i] = f;
+      p.torque[i] = t;
+      if (!is_finite(f) || !is_finite(t)) bad = std::min<std::int64_t>(bad, static_cast<std::int64_t>(i));
+    }
+    wall_contacts += ws.contacts;
+    overflow = std::min(overflow, ws.overflow);
+    worst_wall = std::max(worst_wall, ws.worst_ratio);
+    stiff_wall = std::max(stiff_wall, ws.stiffness_per_mass);
   }
 
   ForceDiagnostics d;
@@ -387,7 +387,8 @@ bool ForceField::walls_where_found(const std::vector<Wall>& walls) const {
     const WallPose& then = mask_poses_[w];
     double shift2 = 0;
     for (int corner = 0; corner < 8; ++corner) {
-      const Vec3 y{corner & 1 ? mask_region_hi_.x : mask_region_lo_.x, corner & 2 ? mask_region_hi_.y : mask_region_lo_.y,
+      const Vec3 y{corner & 1 ? mask_region_hi_.x : mask_region_lo_.x,
+                   corner & 2 ? mask_region_hi_.y : mask_region_lo_.y,
                    corner & 4 ? mask_region_hi_.z : mask_region_lo_.z};
       shift2 = std::max(shift2, norm2(now.to_body(y) - then.to_body(y)));
     }
