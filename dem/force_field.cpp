@@ -182,9 +182,9 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
       partner_touching_[nl.rev_position(k)] = touching_[k];
     }
     list_generation_ = nl.generation();
-    find_near_walls(p, walls, nl);
+    find_near_walls(p, walls, nl, true);
   } else if (!walls_where_found(walls)) {
-    find_near_walls(p, walls, nl);
+    find_near_walls(p, walls, nl, false);
   }
 
   std::size_t contacts = 0, wall_contacts = 0;
@@ -327,17 +327,19 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
   return d;
 }
 
-void ForceField::find_near_walls(const Particles& p, const std::vector<Wall>& walls, const NeighborList& nl) {
+void ForceField::find_near_walls(const Particles& p, const std::vector<Wall>& walls, const NeighborList& nl,
+                                 bool at_build) {
   // Sphere i may touch wall w before the masks are made again only if, seen from the wall's frame,
   // it is now within r_i + reach of the wall, where reach covers
-  //   - the sphere's own travel: at most skin/2 from where the list was built, so at most a skin
-  //     from where it is now (the masks may be made between builds), plus half a skin for round-off;
+  //   - the sphere's own travel: at most skin/2 from where the list was built; so at most skin/2
+  //     from where it is now at a build, a whole skin between builds; plus half a skin for round-off;
   //   - the wall's travel: a moving wall gets kMovingWallMargin; the masks are made again once some
   //     point of the region the spheres occupy has moved that far in the wall's frame
   //     (walls_where_found). A static wall's margin is 0: any new pose means new masks.
   // Every wall is asked for a stray with slack (it may move further than skin/2 before the next
   // build), and walls beyond the mask always.
   const double skin = nl.skin();
+  const double travel = (at_build ? 1.0 : 1.5) * skin;
   const std::vector<double>& slack = nl.slack2();
   const std::size_t n = p.size();
   const std::size_t masked = std::min(walls.size(), kMaskedWalls);
@@ -361,7 +363,7 @@ void ForceField::find_near_walls(const Particles& p, const std::vector<Wall>& wa
     for (std::size_t w = 0; w < masked; ++w) {
       if (near >> w & 1u) continue;
       WallContact wc[kWallSlots + 1];
-      if (walls[w].contacts(p.x[i], p.radius[i] + 1.5 * skin + mask_margin_[w], wc, kWallSlots + 1) > 0) {
+      if (walls[w].contacts(p.x[i], p.radius[i] + travel + mask_margin_[w], wc, kWallSlots + 1) > 0) {
         near |= 1u << w;
       }
     }

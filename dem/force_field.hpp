@@ -148,7 +148,8 @@ class ForceField {
   std::vector<WallPose> mask_poses_;    // the walls' poses when the masks were made
   std::vector<double> mask_margin_;     // and their margins (0: static)
   Vec3 mask_region_lo_, mask_region_hi_;  // box around the spheres (strays aside) then
-  void find_near_walls(const Particles& p, const std::vector<Wall>& walls, const NeighborList& nl);
+  /// at_build: the list was just built, so every sphere is where the list has it.
+  void find_near_walls(const Particles& p, const std::vector<Wall>& walls, const NeighborList& nl, bool at_build);
   bool walls_where_found(const std::vector<Wall>& walls) const;
   // kWallSlots per particle, the first wall_count_[i] used; the scratch pair holds the step before
   // during compute (double buffer) and is scratch for permute otherwise.

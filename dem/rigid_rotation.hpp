@@ -53,11 +53,11 @@ inline void sin_cos(double x, double& s, double& c) {
   }
 }
 
-/// Exact free rotation about body axis k for time t (one term of the splitting). With
-/// `series_only`, the half angle's sine and cosine always come from the series (no branch, so that a
-/// loop over bodies vectorises) and `in_range` is cleared if the angle is beyond it.
+/// Exact free rotation about body axis k for time t (one term of the splitting); returns the half
+/// angle turned. With `series_only`, its sine and cosine always come from the series (no branch, so
+/// that a loop over bodies vectorises): exact only while the half angle is within kSeriesRange.
 template <bool series_only = false>
-inline void rotate_about_body_axis(int k, double t, Quat& q, Vec3& lb, const Vec3& inertia, bool& in_range) {
+inline double rotate_about_body_axis(int k, double t, Quat& q, Vec3& lb, const Vec3& inertia) {
   const double lk = k == 0 ? lb.x : (k == 1 ? lb.y : lb.z);
   const double ik = k == 0 ? inertia.x : (k == 1 ? inertia.y : inertia.z);
   const double phi = t * lk / ik;
@@ -66,7 +66,6 @@ inline void rotate_about_body_axis(int k, double t, Quat& q, Vec3& lb, const Vec
   double sh, ch;
   if constexpr (series_only) {
     sin_cos_series(0.5 * phi, sh, ch);
-    in_range &= std::abs(0.5 * phi) < kSeriesRange;
   } else {
     sin_cos(0.5 * phi, sh, ch);
   }
@@ -85,6 +84,7 @@ inline void rotate_about_body_axis(int k, double t, Quat& q, Vec3& lb, const Vec
     lb = {c * lb.x + s * lb.y, -s * lb.x + c * lb.y, lb.z};
   }
   q = q * turn;
+  return 0.5 * phi;
 }
 
 }  // namespace detail
@@ -98,12 +98,11 @@ inline void free_rotation_step(Quat& q, const Vec3& L, const Vec3& inertia, doub
     return;
   }
   Vec3 lb = to_body(q, L);
-  bool unused = true;
-  detail::rotate_about_body_axis(0, 0.5 * h, q, lb, inertia, unused);
-  detail::rotate_about_body_axis(1, 0.5 * h, q, lb, inertia, unused);
-  detail::rotate_about_body_axis(2, h, q, lb, inertia, unused);
-  detail::rotate_about_body_axis(1, 0.5 * h, q, lb, inertia, unused);
-  detail::rotate_about_body_axis(0, 0.5 * h, q, lb, inertia, unused);
+  detail::rotate_about_body_axis(0, 0.5 * h, q, lb, inertia);
+  detail::rotate_about_body_axis(1, 0.5 * h, q, lb, inertia);
+  detail::rotate_about_body_axis(2, h, q, lb, inertia);
+  detail::rotate_about_body_axis(1, 0.5 * h, q, lb, inertia);
+  detail::rotate_about_body_axis(0, 0.5 * h, q, lb, inertia);
   q = normalized(q);
 }
 
@@ -113,12 +112,14 @@ inline void free_rotation_step(Quat& q, const Vec3& L, const Vec3& inertia, doub
 /// returns true, q is bit for bit free_rotation_step's.
 inline bool free_rotation_step_series(Quat& q, const Vec3& L, const Vec3& inertia, double h) {
   Vec3 lb = to_body(q, L);
-  bool in_range = true;
-  detail::rotate_about_body_axis<true>(0, 0.5 * h, q, lb, inertia, in_range);
-  detail::rotate_about_body_axis<true>(1, 0.5 * h, q, lb, inertia, in_range);
-  detail::rotate_about_body_axis<true>(2, h, q, lb, inertia, in_range);
-  detail::rotate_about_body_axis<true>(1, 0.5 * h, q, lb, inertia, in_range);
-  detail::rotate_about_body_axis<true>(0, 0.5 * h, q, lb, inertia, in_range);
+  auto turn = [&](int axis, double t) {  // true while the half angle is within the series' range
+    return std::abs(detail::rotate_about_body_axis<true>(axis, t, q, lb, inertia)) < detail::kSeriesRange;
+  };
+  bool in_range = turn(0, 0.5 * h);
+  in_range &= turn(1, 0.5 * h);
+  in_range &= turn(2, h);
+  in_range &= turn(1, 0.5 * h);
+  in_range &= turn(0, 0.5 * h);
   q = normalized(q);
   return in_range;
 }

@@ -538,6 +538,10 @@ void Simulation::drift(double dt) {
     // Bodies in chunks: the anisotropic ones' rotations are evaluated together, vectorised
     // (dem/rotation_batch.hpp; the same numbers as one body at a time).
     RotationBatch batch;
+    auto rotate_alone = [&](std::size_t k) {  // spheres, and bodies the batch's series cannot turn
+      free_rotation_step(b.q[k], b.L[k], b.inertia[k], dt);
+      b.omega[k] = body_angular_velocity(b.q[k], b.L[k], b.inertia[k]);
+    };
 #pragma omp for schedule(static)
     for (std::size_t first = 0; first < nb; first += RotationBatch::kCapacity) {
       const std::size_t last = std::min(nb, first + RotationBatch::kCapacity);
@@ -548,8 +552,7 @@ void Simulation::drift(double dt) {
         b.x[k] += dt * b.v[k];
         const Vec3& inertia = b.inertia[k];
         if (inertia.x == inertia.y && inertia.y == inertia.z) {  // a sphere: one exact rotation
-          free_rotation_step(b.q[k], b.L[k], inertia, dt);
-          b.omega[k] = body_angular_velocity(b.q[k], b.L[k], inertia);
+          rotate_alone(k);
         } else {
           batch.add(static_cast<std::uint32_t>(k), b.q[k], b.L[k], inertia);
         }
@@ -561,8 +564,7 @@ void Simulation::drift(double dt) {
           b.q[k] = {batch.qw[c], batch.qx[c], batch.qy[c], batch.qz[c]};
           b.omega[k] = {batch.wx[c], batch.wy[c], batch.wz[c]};
         } else {  // turned too far in one step for the series: the general path, from the old q
-          free_rotation_step(b.q[k], b.L[k], b.inertia[k], dt);
-          b.omega[k] = body_angular_velocity(b.q[k], b.L[k], b.inertia[k]);
+          rotate_alone(k);
         }
       }
     }
