@@ -4,7 +4,7 @@ checkpoint.h5; layout: docs/checkpoint_layout.md), read through libhdf5 with cty
 
 Usage: h5_state.py CHECKPOINT.h5 [--area A_m2] [--density RHO]
 Prints one line of `key value` pairs:
-  time_s dt_s skin_m spheres bodies mass_kg ekin_J (translational + rotational) zmax_m (highest sphere centre) zmean_m (mean body centre)
+  time_s dt_s skin_m rmax_m (largest sphere radius) spheres bodies mass_kg ekin_J (translational + rotational) zmax_m (highest sphere centre) zmean_m (mean body centre)
   pours_done D/P (if the scenario pours: pours finished / pours)
 and, with --area (floor area of the box) and --density (particle material):
   height_m = 2 x zmean (bed height of a level bed whose centres fill it evenly)
@@ -95,6 +95,7 @@ def main():
         "time_s": f"{attribute(f, 'time'):.6g}",
         "dt_s": f"{attribute(f, 'dt'):.6g}",
         "skin_m": f"{attribute(f, 'skin'):.6g}",
+        "rmax_m": f"{max(dataset(f, '/particles/radius')):.6g}",
         "spheres": len(sz),
         "bodies": len(mass),
         "mass_kg": f"{sum(mass):.6g}",

@@ -70,7 +70,7 @@ if not m: sys.exit("cannot find '[bench] N spheres; time step DT s' in " + sys.a
 print(m.group(1), m.group(2))
 PY
 ) || die "could not read the sphere count and time step from $first_log"
-# grainscale's skin is 0.2 x the largest radius; with diameter 13.4 mm and spread 0.05 the largest
+# LIGGGHTS gets the bound of grainscale's adaptive skin, 0.2 x the largest radius (the fixed skin grainscale used before; dem/adaptive_skin.hpp); with diameter 13.4 mm and spread 0.05 the largest
 # radius is at most 1.05 x 6.7 mm (not printed by grainscale; read from the YAML)
 read -r SKIN TSETTLE < <(python3 - "$YAML" <<'PY'
 import re, sys

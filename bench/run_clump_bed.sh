@@ -13,7 +13,11 @@
 #   BUILD_DIR=build    grainscale build folder (built if missing); GRAINSCALE=path overrides
 #   OUT=bench/out/clump_bed   logs, settled states, results.txt
 # Both codes settle once (untimed): grainscale into a checkpoint (`bench --settled`), LIGGGHTS into a
-# restart file; every timed run starts from that state. Quick end-to-end check of the script:
+# restart file; every timed run starts from that state.
+# Skins: grainscale runs as its users run it, with the adaptive skin (dem/adaptive_skin.hpp), and with
+# the fixed skin LIGGGHTS users set (0.2 x the largest radius); LIGGGHTS runs with that fixed skin and
+# (THIN=1, the default) with the skin grainscale's adaptive run ended with, so that every ratio has a
+# like-for-like twin. Quick end-to-end check of the script:
 #   STEPS=200 SETTLE=0.02 REPEATS=1 IDLE_WAIT=0 bench/run_clump_bed.sh
 set -euo pipefail
 BENCH_NAME=clump_bed
@@ -53,7 +57,9 @@ AREA="$(python3 -c "print($LX * $LY)")"
 need_grainscale
 need_liggghts
 
-rm -f "$OUT"/grainscale_t*_r*.log* "$OUT"/liggghts_np*_r*.log* "$OUT/results.txt"
+THIN="${THIN:-1}"
+rm -f "$OUT"/grainscale_t*_r*.log* "$OUT"/grainscale_fixedskin_t*_r*.log* "$OUT"/liggghts_np*_r*.log* \
+  "$OUT"/liggghts_thinskin_np*_r*.log* "$OUT/results.txt"
 
 # ---------------------------------------------------------------- 1. grainscale: settle once
 SCEN="$OUT/clump_bed.yaml"
@@ -65,27 +71,40 @@ run_logged "$OUT/grainscale_settle.log" "$GS" bench "$SCEN" --steps 1 --threads 
   || die "grainscale settle failed; see $OUT/grainscale_settle.log"
 python3 "$HERE/h5_state.py" "$CKPT" --area "$AREA" --density "$RHO" >"$OUT/grainscale_settled.txt" \
   || die "could not read $CKPT"
-read -r GS_N GS_B GS_DT GS_SKIN < <(python3 - "$OUT/grainscale_settled.txt" <<'PY'
+read -r GS_N GS_B GS_DT GS_RMAX < <(python3 - "$OUT/grainscale_settled.txt" <<'PY'
 import sys
 w = open(sys.argv[1]).read().split(); s = dict(zip(w[0::2], w[1::2]))
-print(s["spheres"], s["bodies"], s["dt_s"], s["skin_m"])
+print(s["spheres"], s["bodies"], s["dt_s"], s["rmax_m"])
 PY
 )
+GS_SKIN="$(python3 -c "print(f'{0.2 * $GS_RMAX:.6g}')")"  # the fixed skin: 0.2 x the largest radius
+SCEN_FIXED="$OUT/clump_bed_fixed_skin.yaml"
+yaml_with "$YAML" "$SCEN_FIXED" "end=$SETTLE" "count=$CLUMPS" "skin=$GS_SKIN"
 (( GS_B == CLUMPS )) || die "grainscale inserted $GS_B clumps, not $CLUMPS"
 NPER=$(( GS_N / GS_B ))
-say "problem: $GS_B clumps x $NPER spheres = $GS_N spheres, dt = $GS_DT s, skin = $GS_SKIN m, settled $SETTLE s"
+say "problem: $GS_B clumps x $NPER spheres = $GS_N spheres, dt = $GS_DT s, fixed skin = $GS_SKIN m, settled $SETTLE s"
 
 # ---------------------------------------------------------------- 2. grainscale: timed
+# (from the same checkpoint: under the fixed-skin scenario the list is rebuilt with that skin at the
+# first warm-up step)
 for n in $COUNTS; do
   for r in $(seq 1 "$REPEATS"); do
-    wait_idle
-    log="$OUT/grainscale_t${n}_r${r}.log"
-    say "grainscale bench, $n thread(s), repeat $r: $STEPS timed steps from the settled state -> $log"
-    run_logged "$log" "$GS" bench "$SCEN" --steps "$STEPS" --threads "$n" --settled "$CKPT" \
-      || die "grainscale bench failed (exit $?); see $log"
-    grep -E '^threads' "$log" >&2 || die "no 'threads N:' line in $log"
+    for variant in adaptive fixed; do
+      wait_idle
+      if [[ $variant == adaptive ]]; then log="$OUT/grainscale_t${n}_r${r}.log" scen="$SCEN"
+      else log="$OUT/grainscale_fixedskin_t${n}_r${r}.log" scen="$SCEN_FIXED"; fi
+      say "grainscale bench, $variant skin, $n thread(s), repeat $r: $STEPS timed steps from the settled state -> $log"
+      run_logged "$log" "$GS" bench "$scen" --steps "$STEPS" --threads "$n" --settled "$CKPT" \
+        || die "grainscale bench failed (exit $?); see $log"
+      grep -E '^threads' "$log" >&2 || die "no 'threads N:' line in $log"
+    done
   done
 done
+# the skin grainscale's adaptive runs ended with (the same for every count: the state is bit for bit)
+FIRST_COUNT="${COUNTS%% *}"
+GS_THIN="$(sed -nE 's/^threads [0-9]+: neighbour list at the end: skin ([0-9.eE+-]+) m.*/\1/p' "$OUT/grainscale_t${FIRST_COUNT}_r1.log" | head -1)"
+[[ -n "$GS_THIN" ]] || die "no 'neighbour list at the end' line in $OUT/grainscale_t${FIRST_COUNT}_r1.log"
+say "grainscale's adaptive skin at the end of its timed steps: $GS_THIN m (fixed: $GS_SKIN m)"
 
 # ---------------------------------------------------------------- 3. LIGGGHTS: settle once, then timed
 # the clump: grainscale's shape file (x y z r, in its length unit) scaled like grainscale scales it
@@ -104,12 +123,12 @@ PY
 ) || die "could not write the LIGGGHTS sphere file from $SHAPE"
 SHAPESCALE="$(python3 -c "print($UNIT * $SCALE)")"
 LIG_VARS=(-var shape "$OUT/wheat.multisphere" -var shapescale "$SHAPESCALE" -var nper "$NPER" -var n "$GS_B"
-          -var dt "$GS_DT" -var skin "$GS_SKIN" -var tsettle "$SETTLE" -var nsteps "$STEPS"
+          -var dt "$GS_DT" -var tsettle "$SETTLE" -var nsteps "$STEPS"
           -var lx "$LX" -var ly "$LY" -var restart "$OUT/liggghts_settled.restart")
 say "LIGGGHTS: $GS_B clumps, settling $SETTLE s (untimed, 1 process) -> $OUT/liggghts_settled.restart"
 rm -f "$OUT/liggghts_settled.restart"
 (cd "$OUT" && run_logged "$OUT/liggghts_settle.log" "$LIGGGHTS" -in "$LIG_IN" -log none -echo none \
-    "${LIG_VARS[@]}" -var mode 1 -var px 1) || die "LIGGGHTS settle failed; see $OUT/liggghts_settle.log"
+    "${LIG_VARS[@]}" -var skin "$GS_SKIN" -var mode 1 -var px 1) || die "LIGGGHTS settle failed; see $OUT/liggghts_settle.log"
 grep -E '^SETTLED' "$OUT/liggghts_settle.log" >&2 || die "no SETTLED line in $OUT/liggghts_settle.log"
 for n in $COUNTS; do
   launcher=()
@@ -118,23 +137,28 @@ for n in $COUNTS; do
     launcher=("${MPIRUN[@]}" -np "$n")
     if (( n > NCPU )); then launcher+=(--oversubscribe); fi
   fi
+  skins=(fixed); if [[ "$THIN" == 1 ]]; then skins+=(thin); fi
   for r in $(seq 1 "$REPEATS"); do
-    wait_idle
-    log="$OUT/liggghts_np${n}_r${r}.log"
-    say "LIGGGHTS, $n process(es), repeat $r: $STEPS timed steps from the settled state -> $log"
-    (cd "$OUT" && run_logged "$log" "${launcher[@]}" "$LIGGGHTS" -in "$LIG_IN" -log none -echo none \
-        "${LIG_VARS[@]}" -var mode 2 -var px "$n") || die "LIGGGHTS failed (exit $?); see $log"
-    grep -E '^Loop time' "$log" | tail -1 >&2 || die "no 'Loop time' line in $log"
+    for variant in "${skins[@]}"; do
+      wait_idle
+      if [[ $variant == fixed ]]; then log="$OUT/liggghts_np${n}_r${r}.log" skin="$GS_SKIN"
+      else log="$OUT/liggghts_thinskin_np${n}_r${r}.log" skin="$GS_THIN"; fi
+      say "LIGGGHTS, skin $skin m, $n process(es), repeat $r: $STEPS timed steps from the settled state -> $log"
+      (cd "$OUT" && run_logged "$log" "${launcher[@]}" "$LIGGGHTS" -in "$LIG_IN" -log none -echo none \
+          "${LIG_VARS[@]}" -var skin "$skin" -var mode 2 -var px "$n") || die "LIGGGHTS failed (exit $?); see $log"
+      grep -E '^Loop time' "$log" | tail -1 >&2 || die "no 'Loop time' line in $log"
+    done
   done
 done
 
 # ---------------------------------------------------------------- 4. table
-python3 - "$OUT" "$STEPS" "$REPEATS" "$COUNTS" "$GS_N" "$GS_B" "$GS_DT" "$GS_SKIN" "$SETTLE" "$AREA" "$RHO" \
+python3 - "$OUT" "$STEPS" "$REPEATS" "$COUNTS" "$GS_N" "$GS_B" "$GS_DT" "$GS_SKIN" "$SETTLE" "$AREA" "$RHO" "$GS_THIN" \
   <<'PY' | tee "$OUT/results.txt"
 import glob, os, re, sys
 out, steps, repeats = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
 counts = [int(c) for c in sys.argv[4].split()]
 n_sph, n_body, dt, skin, settle, area, rho = int(sys.argv[5]), int(sys.argv[6]), sys.argv[7], sys.argv[8], sys.argv[9], float(sys.argv[10]), float(sys.argv[11])
+thin = sys.argv[12]
 
 def kv(path):
     try:
@@ -167,57 +191,68 @@ def lg_run(log):
 def best(kind, n):
     runs = []
     for r in range(1, repeats + 1):
-        log = f"{out}/{kind}_{'t' if kind == 'grainscale' else 'np'}{n}_r{r}.log"
+        log = f"{out}/{kind}_{'t' if kind.startswith('grainscale') else 'np'}{n}_r{r}.log"
         if os.path.exists(log):
-            x = (gs_run if kind == "grainscale" else lg_run)(log)
+            x = (gs_run if kind.startswith("grainscale") else lg_run)(log)
             if x: runs.append(x)
     return max(runs, key=lambda x: x["rate"]) if runs else None
 
 M = lambda x: f"{x / 1e6:8.3f}"
 print(f"clump bed benchmark: {n_body} clumps x {n_sph // n_body} spheres = {n_sph} spheres, dt = {dt} s, "
-      f"skin = {skin} m, settled {settle} s, {steps} timed steps (best of {repeats})")
+      f"settled {settle} s, {steps} timed steps (best of {repeats})")
+print(f"skins: fixed = {skin} m (0.2 x the largest radius, what LIGGGHTS users set); adaptive = grainscale's default "
+      f"(dem/adaptive_skin.hpp), which ended at {thin} m; thin = LIGGGHTS given that skin")
 print("rates in millions per second of wall clock; per core = divided by the threads / processes")
-hdr = f"{'code':>10} {'n':>2} | {'sph-st/s':>8} {'per core':>8} {'clump-st':>8} {'contact/s':>9} | {'B/sphere':>8} {'RSS B/sph':>9} | {'s':>7} | other load"
+rows = [("grainscale", "grainscale", "adaptive"), ("grainscale_fixedskin", "grainscale", "fixed"),
+        ("liggghts", "LIGGGHTS", "fixed"), ("liggghts_thinskin", "LIGGGHTS", "thin")]
+hdr = f"{'code':>10} {'skin':>8} {'n':>2} | {'sph-st/s':>8} {'per core':>8} {'clump-st':>8} {'contact/s':>9} | {'B/sphere':>8} {'RSS B/sph':>9} | {'s':>7} | other load"
 print(hdr); print("-" * len(hdr))
 res = {}
 for n in counts:
-    for kind in ("grainscale", "LIGGGHTS"):
-        x = best("grainscale" if kind == "grainscale" else "liggghts", n)
+    for kind, code, sk in rows:
+        x = best(kind, n)
         res[kind, n] = x
         if not x:
-            print(f"{kind:>10} {n:>2} | {'n/a':>8}"); continue
+            print(f"{code:>10} {sk:>8} {n:>2} | {'n/a':>8}"); continue
         ld = load(x["log"])
         rss = int(ld.get("maxrss_kb", 0)) * 1024 / n_sph
-        print(f"{kind:>10} {n:>2} | {M(x['rate'])} {M(x['rate'] / n)} {M(x['rate'] * n_body / n_sph)} {M(x['cps']):>9} | "
+        print(f"{code:>10} {sk:>8} {n:>2} | {M(x['rate'])} {M(x['rate'] / n)} {M(x['rate'] * n_body / n_sph)} {M(x['cps']):>9} | "
               f"{x['bytes']:8.0f} {rss:9.0f} | {x['s']:7.2f} | {ld.get('other_cores', '?')}")
 print()
-for n in counts:
-    g, l = res.get(("grainscale", n)), res.get(("LIGGGHTS", n))
-    r = f"{g['rate'] / l['rate']:.2f}" if g and l else "n/a"
-    print(f"ratio grainscale / LIGGGHTS per core at {n} thread(s) / process(es): {r}")
-for kind in ("grainscale", "LIGGGHTS"):
+pairs = [("grainscale", "liggghts", "each as its users run it (grainscale adaptive, LIGGGHTS fixed skin)"),
+         ("grainscale_fixedskin", "liggghts", "both with the fixed skin"),
+         ("grainscale", "liggghts_thinskin", "both with grainscale's adaptive skin")]
+for a_kind, b_kind, what in pairs:
+    for n in counts:
+        g, l = res.get((a_kind, n)), res.get((b_kind, n))
+        r = f"{g['rate'] / l['rate']:.2f}" if g and l else "n/a"
+        print(f"ratio grainscale / LIGGGHTS per core at {n} thread(s) / process(es), {what}: {r}")
+for kind, code, sk in rows:
     a, b = res.get((kind, counts[0])), res.get((kind, counts[-1]))
     if a and b and counts[-1] != counts[0]:
-        print(f"{kind} speed-up {counts[0]} -> {counts[-1]}: {b['rate'] / a['rate']:.2f}x")
+        print(f"{code} ({sk} skin) speed-up {counts[0]} -> {counts[-1]}: {b['rate'] / a['rate']:.2f}x")
 print("(other load: CPU cores used by other processes during the run; > 0.2 means the figure is disturbed.")
 print(" B/sphere: each code's own count (grainscale: arrays it holds; LIGGGHTS: 'Memory usage per processor' x")
 print(" processes, its estimate). RSS B/sph: peak resident memory of the largest process / spheres, libraries")
 print(" and MPI buffers included.)")
 print()
 print("every timed run (raw):")
-for log in sorted(glob.glob(f"{out}/grainscale_t*_r*.log")) + sorted(glob.glob(f"{out}/liggghts_np*_r*.log")):
+for log in sorted(glob.glob(f"{out}/grainscale_*t*_r*.log")) + sorted(glob.glob(f"{out}/liggghts_*np*_r*.log")):
     x = (gs_run if "grainscale" in os.path.basename(log) else lg_run)(log)
     if x:
-        print(f"  {os.path.basename(log):24} {x['rate'] / 1e6:8.3f} M sphere-steps/s in {x['s']:.2f} s   other load {load(log).get('other_cores', '?')} cores")
+        print(f"  {os.path.basename(log):32} {x['rate'] / 1e6:8.3f} M sphere-steps/s in {x['s']:.2f} s   other load {load(log).get('other_cores', '?')} cores")
 print("end of the timed steps (the same state for every count of a code: a run that disagrees misbehaved):")
-for log in sorted(glob.glob(f"{out}/grainscale_t*_r*.log")):
-    m = re.search(r"end state: kinetic energy (\S+) J, (\d+) contacts, fingerprint (\w+)", open(log).read())
+for log in sorted(glob.glob(f"{out}/grainscale_*t*_r*.log")):
+    t = open(log).read()
+    m = re.search(r"end state: kinetic energy (\S+) J, (\d+) contacts, fingerprint (\w+)", t)
+    e = re.search(r"neighbour list at the end: skin (\S+) m, (\S+) entries per sphere", t)
     if m:
-        print(f"  {os.path.basename(log):24} KE {float(m.group(1)):.4g} J, {m.group(2)} contacts, fingerprint {m.group(3)} (bit for bit)")
-for log in sorted(glob.glob(f"{out}/liggghts_np*_r*.log")):
+        print(f"  {os.path.basename(log):32} KE {float(m.group(1)):.4g} J, {m.group(2)} contacts, fingerprint {m.group(3)} (bit for bit)"
+              + (f"; skin {e.group(1)} m, {e.group(2)} list entries per sphere" if e else ""))
+for log in sorted(glob.glob(f"{out}/liggghts_*np*_r*.log")):
     m = re.search(r"^TIMED atoms (\d+) bodies (\S+) ekin_J (\S+) zmean_m (\S+) contacts (\S+)", open(log).read(), re.M)
     if m:
-        print(f"  {os.path.basename(log):24} KE {float(m.group(3)):.4g} J, mean centre height {1000 * float(m.group(4)):.2f} mm, "
+        print(f"  {os.path.basename(log):32} KE {float(m.group(3)):.4g} J, mean centre height {1000 * float(m.group(4)):.2f} mm, "
               f"{int(float(m.group(5)))} contacts")
 
 print()

@@ -128,7 +128,12 @@ DT="${DT:-$(python3 -c "
 import math
 print(f'{$FRAC * math.pi * $RMIN * math.sqrt($RHO / $G) / (0.1631 * $NU + 0.8766):.6g}')")}"
 if [[ -z "${SKIN:-}" ]]; then
-  if [[ "$SKIN_YAML" == auto ]]; then SKIN="$(python3 -c "print(f'{0.2 * $RMAX:.6g}')")"; else SKIN="$SKIN_YAML"; fi
+  # (time.skin 0 is grainscale's adaptive skin: LAMMPS gets the fixed 0.2 x the largest radius its users set)
+  if [[ "$SKIN_YAML" == auto ]] || python3 -c "import sys; sys.exit(float('$SKIN_YAML') != 0)"; then
+    SKIN="$(python3 -c "print(f'{0.2 * $RMAX:.6g}')")"
+  else
+    SKIN="$SKIN_YAML"
+  fi
 fi
 say "problem: $CLUMPS clumps x $NPER spheres, clump $CLUMP"
 say "dt = $DT s, skin = $SKIN m, settle $SETTLE s, box $LX x $LY m"

@@ -290,15 +290,16 @@ BuiltScenario build(const Scenario& s, bool place_particles) {
   bool pours = false;
   for (const BatchSpec& b : s.particles) pours = pours || b.rate > 0;
   if (pours && settings.skin == 0) {
-    // Like the time step, the Verlet skin must suit particles that arrive later (0.2 x the largest
-    // radius, as Simulation::setup would choose with every particle present).
+    // Like the time step, the largest adaptive Verlet skin must suit particles that arrive later
+    // (0.2 x the largest radius, as a build would choose with every particle present; before the
+    // first arrivals there is no radius to take it from).
     double r_max = 0;
     for (const BatchSpec& b : s.particles) {
       if (!b.batch.shape) r_max = std::max(r_max, 0.5 * b.batch.diameter * (1 + b.batch.diameter_spread));
       else
         for (const auto& c : b.batch.shape->spheres) r_max = std::max(r_max, c.radius);
     }
-    settings.skin = 0.2 * r_max;
+    settings.skin_max = 0.2 * r_max;
   }
   if (pours && settings.time_step == 0) {
     double t = 1e300;

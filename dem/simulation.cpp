@@ -1,5 +1,6 @@
 #include "dem/parallel.hpp"
 #include "dem/simulation.hpp"
+#include "dem/adaptive_skin.hpp"
 #include "dem/rotation_batch.hpp"
 
 #include <algorithm>
@@ -172,9 +173,6 @@ void Simulation::setup() {
     if (particles_.size() == 0) throw InputError("cannot choose a time step automatically without particles");
     dt_ = settings_.time_step_fraction * rayleigh_time();
   }
-  double r_max = 0;
-  for (double r : particles_.radius) r_max = std::max(r_max, r);
-  skin_ = settings_.skin > 0 ? settings_.skin : 0.2 * r_max;
   forces_.setup(materials_, walls_, settings_.rolling);
   for (Wall& w : walls_) w.move_to(time_);
   move_spheres_with_bodies();
@@ -339,8 +337,35 @@ void Simulation::restore(SimulationState&& s) {
   ready_ = true;
 }
 
+double Simulation::choose_skin() const {
+  if (settings_.skin > 0) return settings_.skin;
+  // The fastest sphere's speed, strays with slack left out (they may outrun the skin anyway,
+  // NeighborList::slack2), and the largest radius present for the default bound.
+  const Particles& p = particles_;
+  const std::size_t n = p.size();
+  const double* slack = neighbors_.slack2().data();
+  const std::size_t slack_n = neighbors_.slack2().size();
+  double v2_max = 0, r_max = 0;
+#pragma omp parallel for if(n >= parallel_min_items()) schedule(static) reduction(max : v2_max, r_max)
+  for (std::size_t s = 0; s < n; ++s) {
+    r_max = std::max(r_max, p.radius[s]);
+    if (s < slack_n && slack[s] > 0) continue;
+    v2_max = std::max(v2_max, norm2(p.v[s]));
+  }
+  const double skin_max = settings_.skin_max > 0 ? settings_.skin_max : 0.2 * r_max;
+  // (A blown-up state's velocities may not be finite: keep to the bound, the sort reports it.)
+  return std::isfinite(v2_max) ? AdaptiveSkin::choose(std::sqrt(v2_max), dt_, skin_max) : skin_max;
+}
+
+bool Simulation::skin_should_change() const {
+  // A fixed skin other than the list's: a state restored under a scenario with another time.skin.
+  if (settings_.skin > 0) return skin_ != settings_.skin;
+  return steps_ % AdaptiveSkin::kCheckEvery == 0 && AdaptiveSkin::shrink(skin_, choose_skin());
+}
+
 void Simulation::rebuild() {
   forces_.resize(particles_.size());  // wall-contact slots for particles added since the last build
+  skin_ = choose_skin();
   const std::vector<std::uint32_t>* sorted = nullptr;
   try {
     sorted = &neighbors_.sort_by_cell(particles_, skin_);
@@ -598,7 +623,7 @@ void Simulation::step() {
   time_ += dt_;
   ++steps_;
   for (Wall& w : walls_) w.move_to(time_);
-  if (neighbors_.stale(particles_, moved2_)) rebuild();
+  if (neighbors_.stale(particles_, moved2_) || skin_should_change()) rebuild();
   diag_ = forces_.compute(particles_, neighbors_, walls_, dt_);
   check_health();
   if (settings_.stability_interval > 0 && steps_ % settings_.stability_interval == 0) check_stability();

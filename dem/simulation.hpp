@@ -34,7 +34,8 @@ struct SimulationSettings {
   Vec3 gravity{0, 0, -9.81};
   double time_step = 0;             // s; 0 = automatic: time_step_fraction x Rayleigh time
   double time_step_fraction = 0.2;  // of the smallest Rayleigh time among the particles
-  double skin = 0;                  // m; 0 = automatic: 0.1 x largest particle diameter
+  double skin = 0;                  // m; > 0: fixed; 0 = adaptive, chosen at each list build (dem/adaptive_skin.hpp)
+  double skin_max = 0;              // m; largest adaptive skin; 0 = 0.2 x the largest radius present
   RollingSettings rolling;
   double max_overlap_ratio = 0.3;   // overlap / radius that stops the run as a blow-up
   double scale_factor = 1;          // particle scale factor (metadata, written to every snapshot)
@@ -145,6 +146,8 @@ class Simulation {
  private:
   void check_pairs_in_use(const Particles& p) const;
   void rebuild();
+  double choose_skin() const;
+  bool skin_should_change() const;
   void compute_forces();
   void check_health();
   std::uint64_t add_body(double mass, const Vec3& inertia, const Vec3& x, const Quat& q, const Vec3& v,

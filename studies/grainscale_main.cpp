@@ -270,6 +270,9 @@ int run_bench(const Args& a) {
                 "%zu contacts, fingerprint %016llx\n", threads, cpu, static_cast<double>(a.steps) * copy.particles().size() / cpu / 1e6,
                 e.kinetic_translation + e.kinetic_rotation, copy.diagnostics().contacts,
                 static_cast<unsigned long long>(state_fingerprint(copy.bodies())));
+    // The skin is chosen at each build (dem/adaptive_skin.hpp): what the timed steps ended with.
+    std::printf("threads %d: neighbour list at the end: skin %.4g m, %.2f entries per sphere\n", threads, copy.skin(),
+                static_cast<double>(copy.neighbors().entries()) / copy.particles().size());
   }
   return 0;
 }

@@ -20,8 +20,9 @@ inline MaterialTable barley_perspex() {
 
 /// nx x ny x nz spheres of radius ~3 mm (+-10 %) on a 7 mm lattice with small random offsets and
 /// sideways velocities, in an open-topped box just wide enough: they fall, collide and settle.
-inline Simulation barley_box(RollingModel model, int nx, int ny, int nz, std::uint64_t seed) {
-  SimulationSettings st;
+/// (`st`: other settings; its rolling model is replaced by `model`.)
+inline Simulation barley_box(RollingModel model, int nx, int ny, int nz, std::uint64_t seed,
+                             SimulationSettings st = {}) {
   st.rolling.model = model;
   Simulation sim(barley_perspex(), st);
   Random rng(seed);

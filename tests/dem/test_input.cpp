@@ -206,8 +206,10 @@ TEST_CASE("A scenario batch with a rate is poured during the run; the time step 
   // The step was chosen for the poured 4 mm grains before any exists.
   const double expected = 0.2 * rayleigh_time(0.002, built.sim->materials()[0]);
   CHECK_THAT(built.sim->settings().time_step, Catch::Matchers::WithinRel(expected, 1e-12));
-  // So was the Verlet skin (0.2 x the largest radius): with none, the list would be rebuilt every step.
-  CHECK_THAT(built.sim->settings().skin, Catch::Matchers::WithinRel(0.2 * 0.002, 1e-12));
+  // So was the adaptive Verlet skin's bound (0.2 x the largest radius): with none, the list would be
+  // rebuilt every step.
+  CHECK(built.sim->settings().skin == 0);
+  CHECK_THAT(built.sim->settings().skin_max, Catch::Matchers::WithinRel(0.2 * 0.002, 1e-12));
   while (built.sim->time() < s.end_time) built.advance();
   CHECK(!built.pouring());
   CHECK(built.sim->particles().size() > 0);

@@ -1,0 +1,45 @@
+#pragma once
+// The Verlet skin chosen afresh at every neighbour-list build (time.skin: 0, the default).
+//
+// The list holds every pair closer than r_i + r_j + skin and stays exact until some sphere has moved
+// skin/2 (Allen & Tildesley 2017, Sec. 5.3), so the skin trades two costs:
+//   - every listed pair not in contact costs a distance test every step; the number of such pairs
+//     grows with the skin (a settled bed of 7-sphere clumps, 0.43 contacts per sphere: 2.74 list
+//     entries per sphere at skin 0.2 r_max, 0.68 at 0.024 r_max; 15.5 -> 22.2 M sphere-steps/s on
+//     one core, docs/performance.md "Adaptive skin");
+//   - a build (sort, renumber, list) costs about two steps' work, and comes every
+//     skin / (2 v_max dt) steps.
+// A bed shaken slowly moves far less than a skin of 0.2 r_max per few dozen steps, so a fixed skin
+// sized for pouring wastes most of the distance tests. The skin is therefore sized so that the list
+// lasts about kSteps steps at the fastest sphere's present speed:
+//   skin = clamp(2 kSteps v_max dt, kMinFraction skin_max, skin_max),
+// skin_max = 0.2 r_max (the fixed skin grainscale used before; cells stay no wider than they were).
+// A list that is never stale (a bed come to rest) would keep the skin of its build for ever, so
+// every kCheckEvery steps (counted from the start: restarts see the same steps) the skin is chosen
+// again, and the list rebuilt if the new skin is under half the old one.
+// The choice affects cost only, never which contacts are found: the list is rebuilt whenever a
+// sphere has moved half the skin of its build, whatever that skin was. It depends only on the state
+// at the build (no timers, no thread count), so runs stay reproducible bit for bit, checkpoints included.
+#include <algorithm>
+
+namespace grainscale::dem {
+
+struct AdaptiveSkin {
+  /// Steps a list should last at the fastest sphere's speed at its build.
+  static constexpr double kSteps = 40;
+  /// Smallest skin, as a fraction of skin_max: a bed at rest still needs a list that lasts.
+  static constexpr double kMinFraction = 1.0 / 32;
+
+  /// Steps between checks whether a list still valid should be rebuilt with a smaller skin.
+  static constexpr unsigned kCheckEvery = 100;
+
+  /// The skin for a build, given the fastest (non-stray) sphere's speed v_max (m/s), the time step
+  /// dt (s) and the largest skin allowed (m).
+  static double choose(double v_max, double dt, double skin_max) {
+    return std::clamp(2.0 * kSteps * v_max * dt, kMinFraction * skin_max, skin_max);
+  }
+  /// Worth a build before the list is stale?
+  static bool shrink(double skin_now, double skin_chosen) { return skin_chosen < 0.5 * skin_now; }
+};
+
+}  // namespace grainscale::dem
