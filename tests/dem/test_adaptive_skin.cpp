@@ -26,6 +26,25 @@ std::size_t overlapping_pairs(const Particles& p) {
   return n;
 }
 
+/// A small barley box (4 x 4 x nz spheres) run under a fixed skin, and the same state restored
+/// (through a checkpoint file) into a box whose settings are `then`.
+struct FixedThenRestored {
+  Simulation fixed, restored;
+  FixedThenRestored(int nz, double skin, std::uint64_t steps, SimulationSettings then)
+      : fixed(testing::barley_box(RollingModel::constant_torque, 4, 4, nz, 8, with_skin(skin))),
+        restored(testing::barley_box(RollingModel::constant_torque, 4, 4, nz, 8, then)) {
+    fixed.run_steps(steps);
+    const testing::CheckpointTempDir dir;
+    write_checkpoint(dir / "state.h5", fixed);
+    restore_checkpoint(read_checkpoint(dir / "state.h5"), restored);
+  }
+  static SimulationSettings with_skin(double skin) {
+    SimulationSettings st;
+    st.skin = skin;
+    return st;
+  }
+};
+
 double largest_radius(const Particles& p) {
   double r = 0;
   for (double x : p.radius) r = std::max(r, x);
@@ -95,14 +114,8 @@ TEST_CASE("A bed at rest under a thick skin is rebuilt with a thin one within kC
           "[dem][neighbor][skin]") {
   // A list that never goes stale would keep its build's skin for ever: the bed settles under a fixed
   // skin of 0.2 r_max, then continues with the adaptive one.
-  SimulationSettings st;
-  st.skin = 6e-4;
-  Simulation fixed = testing::barley_box(RollingModel::constant_torque, 4, 4, 3, 8, st);
-  fixed.run_steps(30000);
-  const testing::CheckpointTempDir dir;
-  write_checkpoint(dir / "settled.h5", fixed);
-  Simulation adaptive = testing::barley_box(RollingModel::constant_torque, 4, 4, 3, 8);
-  restore_checkpoint(read_checkpoint(dir / "settled.h5"), adaptive);
+  FixedThenRestored run(3, 6e-4, 30000, SimulationSettings{});
+  Simulation &fixed = run.fixed, &adaptive = run.restored;
   REQUIRE(adaptive.skin() == 6e-4);
   const std::size_t builds = adaptive.neighbors().builds();
   adaptive.run_steps(AdaptiveSkin::kCheckEvery);
@@ -114,19 +127,12 @@ TEST_CASE("A bed at rest under a thick skin is rebuilt with a thin one within kC
 
 TEST_CASE("A fixed skin is kept, and a state restored under another fixed skin takes it at the next step",
           "[dem][neighbor][skin]") {
-  SimulationSettings st;
-  st.skin = 4e-4;
-  Simulation fixed = testing::barley_box(RollingModel::constant_torque, 4, 4, 4, 8, st);
-  fixed.run_steps(3000);
+  // The same state restored under time.skin 2e-4: the list is rebuilt with it at once.
+  FixedThenRestored run(4, 4e-4, 3000, FixedThenRestored::with_skin(2e-4));
+  const Simulation& fixed = run.fixed;
+  Simulation& other = run.restored;
   CHECK(fixed.skin() == 4e-4);
   CHECK(fixed.neighbors().skin() == 4e-4);
-
-  // The same state under time.skin 2e-4: the list is rebuilt with it at once.
-  const testing::CheckpointTempDir dir;
-  write_checkpoint(dir / "fixed.h5", fixed);
-  st.skin = 2e-4;
-  Simulation other = testing::barley_box(RollingModel::constant_torque, 4, 4, 4, 8, st);
-  restore_checkpoint(read_checkpoint(dir / "fixed.h5"), other);
   const std::size_t builds = other.neighbors().builds();
   other.run_steps(1);
   CHECK(other.neighbors().builds() == builds + 1);
