@@ -100,7 +100,8 @@ void DemRun::setup() {
   const Simulation& sim = *run_.sim;
   std::ostringstream s;
   s << sim.particles().size() << " spheres in " << sim.bodies().size() << " bodies, " << sim.walls().size()
-    << " walls; " << sim.time_step_report() << "; neighbour skin " << sim.neighbors().skin() << " m";
+    << " walls; " << sim.time_step_report() << "; neighbour skin " << sim.neighbors().skin() << " m"
+    << (sim.settings().skin > 0 ? " (fixed)" : " (adaptive: chosen at each list build, dem/adaptive_skin.hpp)");
   log(s.str());
 }
 
@@ -282,6 +283,8 @@ void DemRun::write_final_output() {
     << "wall_clock_s: " << wall << "\n"
     << "sphere_steps_per_s: " << (wall > 0 ? sim.steps() * static_cast<double>(sim.particles().size()) / wall : 0) << "\n"
     << "neighbour_list_builds: " << sim.neighbors().builds() << "\n"
+    << "neighbour_skin_m: " << sim.neighbors().skin() << "  # of the last build"
+    << (sim.settings().skin > 0 ? " (fixed)" : " (adaptive)") << "\n"
     << "contacts: " << sim.diagnostics().contacts << "\n"
     << "wall_contacts: " << sim.diagnostics().wall_contacts << "\n"
     << "max_overlap_ratio: " << sim.diagnostics().max_overlap_ratio << "\n"
