@@ -5,10 +5,11 @@
 // skin/2 (Allen & Tildesley 2017, Sec. 5.3), so the skin trades two costs:
 //   - every listed pair not in contact costs a distance test every step; the number of such pairs
 //     grows with the skin (a settled bed of 7-sphere clumps, 0.43 contacts per sphere: 2.74 list
-//     entries per sphere at skin 0.2 r_max, 0.68 at 0.024 r_max; 15.5 -> 22.2 M sphere-steps/s on
-//     one core, docs/performance.md "Adaptive skin");
-//   - a build (sort, renumber, list) costs about two steps' work, and comes every
-//     skin / (2 v_max dt) steps.
+//     entries per sphere at skin 0.2 r_max, 0.51 at r_max / 160, the floor below; 15.5 -> 25.9 M
+//     sphere-steps/s on one core, docs/performance.md "the adaptive skin");
+//   - a build (sort, renumber, list) costs a few steps' work, and comes every skin / (2 v_max dt)
+//     steps: where everything moves (a box in mid-swing) a thin skin costs more builds than it
+//     saves tests, which is why kSteps is not smaller (there 20 is 15 % slower, 40 to 160 within 5 %).
 // A bed shaken slowly moves far less than a skin of 0.2 r_max per few dozen steps, so a fixed skin
 // sized for pouring wastes most of the distance tests. The skin is therefore sized so that the list
 // lasts about kSteps steps at the fastest sphere's present speed:
