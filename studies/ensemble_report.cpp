@@ -128,8 +128,10 @@ std::string write_ensemble_report(const EnsembleSettings& s, const EnsembleResul
       const RunMeasures& m = run.measures;
       std::string lefts, rights;
       for (const auto& cp : m.compartments) {
-        lefts += (lefts.empty() ? "" : " ") + csv_number(cp.left_end);
-        rights += (rights.empty() ? "" : " ") + csv_number(cp.right_end);
+        // (Appended piece by piece: "sep" + string made GCC 12 warn of an overlapping memcpy, -Wrestrict.)
+        if (!lefts.empty()) lefts += ' ', rights += ' ';
+        lefts += csv_number(cp.left_end);
+        rights += csv_number(cp.right_end);
       }
       o << run.variant << ',' << run.seed << ',' << csv_number(run.scale_factor) << ',' << run.status << ','
         << csv_number(run.wall_seconds) << ',' << get(run.dem_summary, "spheres") << ',' << get(run.dem_summary, "bodies")
