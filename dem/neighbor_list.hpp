@@ -130,6 +130,7 @@ class NeighborList {
   GridBounds bounds_;                      // of the last sort_by_cell (or restore)
   std::vector<double> slack2_;             // per slot (empty: none); see slack2()
   std::vector<std::uint32_t> outside_, candidates_;  // scratch of assign_stray_slack
+  std::vector<std::vector<std::uint32_t>> thread_partners_;  // scratch of build: partners per thread
 
   std::vector<std::uint32_t> start_, partner_, count_;
   std::vector<ContactHistory> history_;
