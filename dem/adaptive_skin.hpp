@@ -8,8 +8,9 @@
 //     entries per sphere at skin 0.2 r_max, 0.51 at r_max / 160, the floor below; 15.5 -> 25.9 M
 //     sphere-steps/s on one core, docs/performance.md "the adaptive skin");
 //   - a build (sort, renumber, list) costs a few steps' work, and comes every skin / (2 v_max dt)
-//     steps: where everything moves (a box in mid-swing) a thin skin costs more builds than it
-//     saves tests, which is why kSteps is not smaller (there 20 is 15 % slower, 40 to 160 within 5 %).
+//     steps: where everything moves (a box in mid-swing) builds are what a thin skin costs, which
+//     is why kSteps is not smaller (there, with the builds of the time, 20 was 15 % slower than 40,
+//     and 40 to 160 within 5 %; since builds scan once, 40 and 160 are level).
 // A bed shaken slowly moves far less than a skin of 0.2 r_max per few dozen steps, so a fixed skin
 // sized for pouring wastes most of the distance tests. The skin is therefore sized so that the list
 // lasts about kSteps steps at the fastest sphere's present speed:

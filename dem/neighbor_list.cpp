@@ -292,11 +292,11 @@ void NeighborList::restore(const Particles& p, double skin, std::vector<std::uin
 }
 
 std::size_t NeighborList::bytes() const {
-  return cell_start_.capacity() * 4 + cell_index_.capacity() * 4 + order_.capacity() * 4 +
-         (start_.capacity() + partner_.capacity() + count_.capacity() + old_start_.capacity() +
-          old_partner_.capacity() + rev_start_.capacity() + rev_entry_.capacity() + rev_position_.capacity() + rev_fill_.capacity()) *
-             4 +
-         (history_.capacity() + old_history_.capacity()) * sizeof(ContactHistory);
+  std::size_t words = cell_start_.capacity() + cell_index_.capacity() + order_.capacity() + start_.capacity() +
+                      partner_.capacity() + count_.capacity() + old_start_.capacity() + old_partner_.capacity() +
+                      rev_start_.capacity() + rev_entry_.capacity() + rev_position_.capacity() + rev_fill_.capacity();
+  for (const auto& t : thread_partners_) words += t.capacity();
+  return words * 4 + (history_.capacity() + old_history_.capacity()) * sizeof(ContactHistory);
 }
 
 }  // namespace grainscale::dem

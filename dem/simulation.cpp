@@ -176,7 +176,7 @@ void Simulation::setup() {
   forces_.setup(materials_, walls_, settings_.rolling);
   for (Wall& w : walls_) w.move_to(time_);
   move_spheres_with_bodies();
-  rebuild();
+  rebuild(choose_skin());
   compute_forces();
   ready_ = true;
 }
@@ -357,15 +357,17 @@ double Simulation::choose_skin() const {
   return std::isfinite(v2_max) ? AdaptiveSkin::choose(std::sqrt(v2_max), dt_, skin_max) : skin_max;
 }
 
-bool Simulation::skin_should_change() const {
+double Simulation::early_rebuild_skin() const {
   // A fixed skin other than the list's: a state restored under a scenario with another time.skin.
-  if (settings_.skin > 0) return skin_ != settings_.skin;
-  return steps_ % AdaptiveSkin::kCheckEvery == 0 && AdaptiveSkin::shrink(skin_, choose_skin());
+  if (settings_.skin > 0) return skin_ != settings_.skin ? settings_.skin : 0;
+  if (steps_ % AdaptiveSkin::kCheckEvery != 0) return 0;
+  const double chosen = choose_skin();
+  return AdaptiveSkin::shrink(skin_, chosen) ? chosen : 0;
 }
 
-void Simulation::rebuild() {
+void Simulation::rebuild(double skin) {
   forces_.resize(particles_.size());  // wall-contact slots for particles added since the last build
-  skin_ = choose_skin();
+  skin_ = skin;
   const std::vector<std::uint32_t>* sorted = nullptr;
   try {
     sorted = &neighbors_.sort_by_cell(particles_, skin_);
@@ -623,7 +625,11 @@ void Simulation::step() {
   time_ += dt_;
   ++steps_;
   for (Wall& w : walls_) w.move_to(time_);
-  if (neighbors_.stale(particles_, moved2_) || skin_should_change()) rebuild();
+  if (neighbors_.stale(particles_, moved2_)) {
+    rebuild(choose_skin());
+  } else if (const double skin = early_rebuild_skin(); skin > 0) {
+    rebuild(skin);
+  }
   diag_ = forces_.compute(particles_, neighbors_, walls_, dt_);
   check_health();
   if (settings_.stability_interval > 0 && steps_ % settings_.stability_interval == 0) check_stability();

@@ -145,9 +145,9 @@ class Simulation {
 
  private:
   void check_pairs_in_use(const Particles& p) const;
-  void rebuild();
+  void rebuild(double skin);
   double choose_skin() const;
-  bool skin_should_change() const;
+  double early_rebuild_skin() const;  // the skin of a build due before the list is stale; 0: none
   void compute_forces();
   void check_health();
   std::uint64_t add_body(double mass, const Vec3& inertia, const Vec3& x, const Quat& q, const Vec3& v,
