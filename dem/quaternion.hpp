@@ -38,12 +38,4 @@ inline Quat conjugate(const Quat& q) { return {q.w, -q.x, -q.y, -q.z}; }
   return v + q.w * t + cross(u, t);
 }
 
-/// Orientation after turning with constant world-frame angular velocity `omega` for `dt`
-/// (exact for constant omega; used for spheres, whose rotation never feeds back into forces).
-inline Quat advance(const Quat& q, const Vec3& omega, double dt) {
-  const double w = norm(omega);
-  if (w * dt < 1e-300) return q;
-  return normalized(axis_angle((1.0 / w) * omega, w * dt) * q);
-}
-
 }  // namespace grainscale::dem

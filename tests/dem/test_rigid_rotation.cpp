@@ -123,6 +123,34 @@ TEST_CASE("The sub-step's sine and cosine agree with libm to round-off at every 
   }
 }
 
+TEST_CASE("A spinning sphere turns by |omega| t about omega, at small and large angles per step", "[rotation]") {
+  // An isotropic body's free rotation is one exact turn per step; its half angle's sine and cosine
+  // come from the series below 0.01 rad and from libm above, so both must accumulate to the exact
+  // orientation: after n steps, q = rot(omega_hat, |omega| n h) q0 to round-off.
+  const double half_angle = GENERATE(1e-6, 1e-4, 0.009, 0.011, 0.4);  // per step
+  const Vec3 inertia{2e-9, 2e-9, 2e-9};
+  const Vec3 axis = (1.0 / norm(Vec3{1, -2, 0.5})) * Vec3{1, -2, 0.5};
+  const double h = 1e-5, w = 2 * half_angle / h;
+  const Vec3 L = (inertia.x * w) * axis;
+  const Quat q0 = normalized({0.9, 0.1, -0.3, 0.2});
+  Quat q = q0;
+  const int n = 1000;
+  for (int s = 0; s < n; ++s) free_rotation_step(q, L, inertia, h);
+  const double total = n * half_angle;  // half of the whole turn
+  const Quat turn{std::cos(total), std::sin(total) * axis.x, std::sin(total) * axis.y, std::sin(total) * axis.z};
+  const Quat exact = turn * q0;
+  const double sign = q.w * exact.w + q.x * exact.x + q.y * exact.y + q.z * exact.z < 0 ? -1 : 1;  // q ~ -q
+  INFO("half angle per step " << half_angle);
+  CHECK(std::abs(q.w - sign * exact.w) < 1e-12);
+  CHECK(std::abs(q.x - sign * exact.x) < 1e-12);
+  CHECK(std::abs(q.y - sign * exact.y) < 1e-12);
+  CHECK(std::abs(q.z - sign * exact.z) < 1e-12);
+  Quat still = q0;
+  free_rotation_step(still, {0, 0, 0}, inertia, h);  // no spin: no turn
+  CHECK(still.w == q0.w);
+  CHECK(still.x == q0.x);
+}
+
 namespace {
 // One body at a time, out of line so that the compiler cannot vectorise it with the batch.
 [[gnu::noinline]] void rotate_one(Quat& q, Vec3& omega, const Vec3& L, const Vec3& inertia, double h) {
