@@ -89,20 +89,32 @@ inline double rotate_about_body_axis(int k, double t, Quat& q, Vec3& lb, const V
 
 }  // namespace detail
 
+/// Free rotation of an isotropic body (a sphere) for time h: omega = L / I is constant, so one exact
+/// turn by |omega| h about omega (the splitting below would give the same with five; profiling showed
+/// sincos at 24 % of a sphere run). Where the half angle x = |omega| h / 2 is within the series' range
+/// the turn's quaternion (cos x, sin x omega / |omega|) comes from series in x^2 (sin x / x and cos x,
+/// the terms of detail::sin_cos_series), so no square root, division or libm call: the sphere loop of
+/// a settled bed spent 5-7 % of its step in sincos (docs/performance.md).
+inline void free_rotation_isotropic(Quat& q, const Vec3& omega, double h) {
+  const double w2 = norm2(omega);
+  const double x2 = 0.25 * h * h * w2;
+  double c, sw;  // cos x and sin x / |omega|
+  if (x2 < detail::kSeriesRange * detail::kSeriesRange) {
+    if (!(x2 > 0)) return;  // no spin
+    sw = 0.5 * h * (1 - x2 * (1.0 / 6) * (1 - x2 * (1.0 / 20) * (1 - x2 * (1.0 / 42))));
+    c = 1 - x2 * 0.5 * (1 - x2 * (1.0 / 12) * (1 - x2 * (1.0 / 30) * (1 - x2 * (1.0 / 56))));
+  } else {
+    const double w = std::sqrt(w2), x = 0.5 * h * w;
+    sw = std::sin(x) / w;
+    c = std::cos(x);
+  }
+  q = normalized(Quat{c, sw * omega.x, sw * omega.y, sw * omega.z} * q);
+}
+
 /// Free rotation for time h (no torque): updates q; the world angular momentum L is unchanged.
 inline void free_rotation_step(Quat& q, const Vec3& L, const Vec3& inertia, double h) {
   if (inertia.x == inertia.y && inertia.y == inertia.z) {
-    // Isotropic body (a sphere): omega = L / I is constant, one exact rotation by |omega| h about
-    // omega (the splitting would give the same result with five; profiling showed sincos at 24 % of
-    // a sphere run). Its half angle's sine and cosine from the series where that is exact (libm's
-    // sincos was still 5-7 % of a settled sphere bed: docs/performance.md).
-    const Vec3 omega = (1.0 / inertia.x) * L;
-    const double w = norm(omega);
-    if (w * h < 1e-300) return;
-    double s, c;
-    detail::sin_cos(0.5 * w * h, s, c);
-    const Vec3 axis = (s / w) * omega;
-    q = normalized(Quat{c, axis.x, axis.y, axis.z} * q);
+    free_rotation_isotropic(q, (1.0 / inertia.x) * L, h);
     return;
   }
   Vec3 lb = to_body(q, L);

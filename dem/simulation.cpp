@@ -565,7 +565,7 @@ void Simulation::drift(double dt) {
     // Bodies in chunks: the anisotropic ones' rotations are evaluated together, vectorised
     // (dem/rotation_batch.hpp; the same numbers as one body at a time).
     RotationBatch batch;
-    auto rotate_alone = [&](std::size_t k) {  // spheres, and bodies the batch's series cannot turn
+    auto rotate_alone = [&](std::size_t k) {  // bodies the batch's series cannot turn
       free_rotation_step(b.q[k], b.L[k], b.inertia[k], dt);
       b.omega[k] = body_angular_velocity(b.q[k], b.L[k], b.inertia[k]);
     };
@@ -579,7 +579,9 @@ void Simulation::drift(double dt) {
         b.x[k] += dt * b.v[k];
         const Vec3& inertia = b.inertia[k];
         if (inertia.x == inertia.y && inertia.y == inertia.z) {  // a sphere: one exact rotation
-          rotate_alone(k);
+          const Vec3 w = (1.0 / inertia.x) * b.L[k];
+          free_rotation_isotropic(b.q[k], w, dt);
+          b.omega[k] = w;
         } else {
           batch.add(static_cast<std::uint32_t>(k), b.q[k], b.L[k], inertia);
         }
