@@ -32,7 +32,7 @@ ContactModels<Rolling> fill_models(const MaterialTable& mt, MakeRolling make_rol
 /// A new contact on feature s.feature of a wall takes over the history of a contact this particle
 /// had last step on an adjacent feature of the same wall that is no longer touched: a sphere rolling
 /// across a mesh edge keeps its tangential spring (no force jump).
-void inherit_history(const WallGeometry& g, const WallSlot* old, int previous, const WallContact* now, int found,
+void inherit_history(const WallGeometry& g, const WallSlot* old, int previous, const WallHit* now, int found,
                      WallSlot& s) {
   for (int o = 0; o < previous; ++o) {
     if (old[o].wall != s.wall || !g.continues(old[o].feature, s.feature)) continue;
@@ -88,33 +88,41 @@ template <class Rolling>
   const double ri = p.radius[i];
   for (std::size_t w = 0; w < walls.size(); ++w) {
     if (w < kMaskedWalls && !(near >> w & 1u)) continue;  // out of reach until the masks are made again
-    UninitializedArray<WallContact, kWallSlots + 1> wc;
-    const int found = walls[w].contacts(xi, ri, wc.data(), kWallSlots + 1);
+    UninitializedArray<WallHit, kWallSlots + 1> hits;
+    const int found = walls[w].hits(xi, ri, hits.data(), kWallSlots + 1);
+    const WallPose& pose = walls[w].pose();
     for (int q = 0; q < found; ++q) {
       if (used == kWallSlots) {
         ws.overflow = std::min<std::int64_t>(ws.overflow, static_cast<std::int64_t>(i));
         break;
       }
-      // The slot is assembled in registers and stored once at the end: matching against fields
-      // just stored (a WallSlot built in memory) stalled on store forwarding (perf: a third of
-      // pass 2 on a bed lying on its floor).
-      WallSlot s{static_cast<std::int32_t>(w), wc[q].feature, {}};
-      bool matched = false;
+      // The contact in registers (no WallContact array: copied through memory field by field,
+      // then read back whole, it stalled on store forwarding, a fifth of the wall contacts of a bed
+      // on its floor); the slot filled in place, its history matched with local keys (matching
+      // against fields just stored stalled too: a third of pass 2 on that bed).
+      const WallContact wc = walls[w].contact(hits[q], xi, ri);
+      const std::int32_t wall = static_cast<std::int32_t>(w);
+      WallSlot& s = slots[used];
+      s.wall = wall;
+      s.feature = wc.feature;
+      int match = -1;
       for (int o = 0; o < previous; ++o) {
-        if (old[o].wall == static_cast<std::int32_t>(w) && old[o].feature == wc[q].feature) {
-          s.history = old[o].history, matched = true;
-        }
+        if (old[o].wall == wall && old[o].feature == wc.feature) match = o;
       }
-      if (!matched && previous > 0) inherit_history(walls[w].geometry(), old, previous, wc.data(), found, s);
-      const WallPose& pose = walls[w].pose();
+      if (match >= 0) {
+        s.history = old[match].history;
+      } else {
+        s.history = {};
+        if (previous > 0) inherit_history(walls[w].geometry(), old, previous, hits.data(), found, s);
+      }
       ContactKinematics c;
-      c.n = wc[q].normal;
-      c.overlap = wc[q].overlap;
+      c.n = wc.normal;
+      c.overlap = wc.overlap;
       c.lever_i = ri - c.overlap;
       c.lever_j = 0;
       c.omega_i = wi;
       c.omega_j = pose.angular_velocity;
-      c.v_rel = vi - c.lever_i * cross(wi, c.n) - pose.surface_velocity(wc[q].point);
+      c.v_rel = vi - c.lever_i * cross(wi, c.n) - pose.surface_velocity(wc.point);
       c.r_eff = ri;
       c.mass_i = c.m_eff = p.mass[i];
       c.mass_j = kInf;
@@ -127,7 +135,7 @@ template <class Rolling>
       Rolling::evaluate(m.rolling[pair], c, cf, s.history, ti, tj);
       f += cf.force;
       t += ti - c.lever_i * cross(c.n, cf.tangential);
-      slots[used++] = s;
+      ++used;
       ws.worst_ratio = std::max(ws.worst_ratio, c.overlap / ri);
       ws.stiffness_per_mass = std::max(ws.stiffness_per_mass, cf.stiffness / c.m_eff);
     }

@@ -67,15 +67,23 @@ class Wall {
   Wall(std::string name, std::shared_ptr<const WallGeometry> geometry, int material, WallPose pose = {})
       : name_(std::move(name)), geometry_(std::move(geometry)), material_(material), rest_(pose), pose_(pose) {}
 
+  static constexpr int kMaxHits = 16;
+
+  /// What the geometry finds near a sphere (centre c, world frame, radius r): up to
+  /// min(cap, kMaxHits) hits in the wall's frame (contact() turns one into world terms).
+  int hits(const Vec3& c, double r, WallHit* out, int cap) const {
+    return geometry_->nearby(pose_.to_body(c), r, out, cap < kMaxHits ? cap : kMaxHits);
+  }
+  /// Hit h of a sphere (centre c, radius r) as a contact in world coordinates.
+  WallContact contact(const WallHit& h, const Vec3& c, double r) const {
+    const Vec3 nw = pose_.direction_to_world(h.normal);
+    return {nw, r - h.distance, c - h.distance * nw, h.feature};
+  }
   /// Contacts of a sphere (centre c, radius r) with this wall; returns the count written to `out`.
   int contacts(const Vec3& c, double r, WallContact* out, int cap) const {
-    constexpr int kMaxHits = 16;
-    UninitializedArray<WallHit, kMaxHits> hits;
-    const int n = geometry_->nearby(pose_.to_body(c), r, hits.data(), cap < kMaxHits ? cap : kMaxHits);
-    for (int k = 0; k < n; ++k) {
-      const Vec3 nw = pose_.direction_to_world(hits[k].normal);
-      out[k] = {nw, r - hits[k].distance, c - hits[k].distance * nw, hits[k].feature};
-    }
+    UninitializedArray<WallHit, kMaxHits> found;
+    const int n = hits(c, r, found.data(), cap);
+    for (int k = 0; k < n; ++k) out[k] = contact(found[k], c, r);
     return n;
   }
 
