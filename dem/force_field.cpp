@@ -1,6 +1,7 @@
 #include "dem/parallel.hpp"
 #include "dem/force_field.hpp"
 #include "dem/pair_batch.hpp"
+#include "dem/wall_batch.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -72,37 +73,38 @@ ForceDiagnostics ForceField::compute(Particles& p, NeighborList& nl, const std::
   return std::visit([&](const auto& m) { return compute_with(m, p, nl, walls, dt); }, models_);
 }
 
-/// Sphere i's wall contacts added to (f, t); histories found by (wall, feature) among last step's
-/// contacts of this particle.
+/// Sphere i's wall contacts, queued in the batch; histories found by (wall, feature) among last
+/// step's contacts of this particle.
 template <class Rolling>
-[[gnu::noinline]] ForceField::ForceTorque ForceField::add_wall_contacts(const Models<Rolling>& m, const Particles& p,
-                                                                     const std::vector<Wall>& walls, std::size_t i,
-                                                                     double dt, ForceTorque sum, WallStats& ws) {
-  Vec3 f = sum.force, t = sum.torque;
+[[gnu::noinline]] void ForceField::add_wall_contacts(const Models<Rolling>& m, Particles& p,
+                                                     const std::vector<Wall>& walls, std::size_t i, double dt,
+                                                     WallBatch<Rolling>& batch, WallStats& ws, std::int64_t& bad) {
   const int previous = count_scratch_[i];
   const std::uint32_t near = near_walls_[i];
   WallSlot* slots = &wall_slots_[i * kWallSlots];
   const WallSlot* old = &wall_scratch_[i * kWallSlots];
   int used = 0;
   const Vec3 xi = p.x[i], vi = p.v[i], wi = p.omega[i];
-  const double ri = p.radius[i];
+  const double ri = p.radius[i], mass_i = p.mass[i], inertia_i = p.inertia[i];
   for (std::size_t w = 0; w < walls.size(); ++w) {
     if (w < kMaskedWalls && !(near >> w & 1u)) continue;  // out of reach until the masks are made again
     UninitializedArray<WallHit, kWallSlots + 1> hits;
     const int found = walls[w].hits(xi, ri, hits.data(), kWallSlots + 1);
     const WallPose& pose = walls[w].pose();
+    const int pair = p.material[i] * m.materials + wall_material_[w];
     for (int q = 0; q < found; ++q) {
       if (used == kWallSlots) {
         ws.overflow = std::min<std::int64_t>(ws.overflow, static_cast<std::int64_t>(i));
         break;
       }
+      if (batch.size == WallBatch<Rolling>::kCapacity) flush_walls(batch, dt, p, ws, bad);
       // The contact in registers (no WallContact array: copied through memory field by field,
       // then read back whole, it stalled on store forwarding, a fifth of the wall contacts of a bed
       // on its floor); the slot filled in place, its history matched with local keys (matching
       // against fields just stored stalled too: a third of pass 2 on that bed).
       const WallContact wc = walls[w].contact(hits[q], xi, ri);
       const std::int32_t wall = static_cast<std::int32_t>(w);
-      WallSlot& s = slots[used];
+      WallSlot& s = slots[used++];
       s.wall = wall;
       s.feature = wc.feature;
       int match = -1;
@@ -115,35 +117,45 @@ template <class Rolling>
         s.history = {};
         if (previous > 0) inherit_history(walls[w].geometry(), old, previous, hits.data(), found, s);
       }
-      ContactKinematics c;
-      c.n = wc.normal;
-      c.overlap = wc.overlap;
-      c.lever_i = ri - c.overlap;
-      c.lever_j = 0;
-      c.omega_i = wi;
-      c.omega_j = pose.angular_velocity;
-      c.v_rel = vi - c.lever_i * cross(wi, c.n) - pose.surface_velocity(wc.point);
-      c.r_eff = ri;
-      c.mass_i = c.m_eff = p.mass[i];
-      c.mass_j = kInf;
-      c.inertia_i = p.inertia[i];
-      c.inertia_j = kInf;
-      c.dt = dt;
-      const int pair = p.material[i] * m.materials + wall_material_[w];
-      const ContactForce cf = HertzMindlin::evaluate(m.contact[pair], c, s.history);
-      Vec3 ti, tj;
-      Rolling::evaluate(m.rolling[pair], c, cf, s.history, ti, tj);
-      f += cf.force;
-      t += ti - c.lever_i * cross(c.n, cf.tangential);
-      ++used;
-      ws.worst_ratio = std::max(ws.worst_ratio, c.overlap / ri);
-      ws.stiffness_per_mass = std::max(ws.stiffness_per_mass, cf.stiffness / c.m_eff);
+      const int b = batch.size++;
+      const double lever = ri - wc.overlap;  // as WallBatch::kinematics has it
+      const Vec3 v_rel = vi - lever * cross(wi, wc.normal) - pose.surface_velocity(wc.point);
+      batch.nx[b] = wc.normal.x, batch.ny[b] = wc.normal.y, batch.nz[b] = wc.normal.z;
+      batch.overlap[b] = wc.overlap, batch.ri[b] = ri;
+      batch.vx[b] = v_rel.x, batch.vy[b] = v_rel.y, batch.vz[b] = v_rel.z;
+      batch.wix[b] = wi.x, batch.wiy[b] = wi.y, batch.wiz[b] = wi.z;
+      batch.wjx[b] = pose.angular_velocity.x, batch.wjy[b] = pose.angular_velocity.y;
+      batch.wjz[b] = pose.angular_velocity.z;
+      batch.mi[b] = mass_i, batch.ii[b] = inertia_i;
+      batch.contact[b] = m.contact[pair];
+      batch.rolling[b] = m.rolling[pair];
+      batch.sx[b] = s.history.shear.x, batch.sy[b] = s.history.shear.y, batch.sz[b] = s.history.shear.z;
+      batch.rx[b] = s.history.rolling.x, batch.ry[b] = s.history.rolling.y, batch.rz[b] = s.history.rolling.z;
+      batch.owner[b] = static_cast<std::uint32_t>(i);
+      batch.slot[b] = &s;
     }
   }
   ws.contacts += static_cast<std::size_t>(used);
   wall_count_[i] = static_cast<std::uint8_t>(used);
+}
 
-  return {f, t};
+template <class Rolling>
+void ForceField::flush_walls(WallBatch<Rolling>& b, double dt, Particles& p, WallStats& ws, std::int64_t& bad) {
+  b.evaluate(dt);
+  // Each contact's force and torque added to its sphere in the order found: the sums the
+  // one-at-a-time loop took (its running sum started from what pass 2 had stored).
+  for (int c = 0; c < b.size; ++c) {
+    const std::uint32_t i = b.owner[c];
+    p.force[i] += Vec3{b.fx[c], b.fy[c], b.fz[c]};
+    p.torque[i] += Vec3{b.tx[c], b.ty[c], b.tz[c]};
+    b.slot[c]->history = {{b.sx[c], b.sy[c], b.sz[c]}, {b.rx[c], b.ry[c], b.rz[c]}};
+    ws.worst_ratio = std::max(ws.worst_ratio, b.overlap_ratio[c]);
+    ws.stiffness_per_mass = std::max(ws.stiffness_per_mass, b.stiffness_per_mass[c]);
+    // A sphere's sum is complete at its last contact; a sum that is not finite before then is not
+    // finite after (IEEE: nothing added to an infinity or a NaN makes it finite again).
+    if (!is_finite(p.force[i]) || !is_finite(p.torque[i])) bad = std::min<std::int64_t>(bad, static_cast<std::int64_t>(i));
+  }
+  b.size = 0;
 }
 
 template <class Rolling>
@@ -287,6 +299,7 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
     reduction(max : worst_wall, stiff_wall)
   {
     WallStats ws;
+    WallBatch<Rolling> batch;
 #pragma omp for schedule(guided, 128) nowait
     for (std::size_t i = 0; i < n; ++i) {
       Vec3 f = p.force[i], t = p.torque[i];  // the owner's share, from pass 1
@@ -295,6 +308,8 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
         f -= share[r].force;
         t += share[r].torque;
       }
+      p.force[i] = f;
+      p.torque[i] = t;
 
       // A sphere's wall slots are a cache line or more apart from the next one's, and only spheres at
       // a wall use them, so no hardware prefetcher follows: fetch them a few spheres ahead.
@@ -309,16 +324,15 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
       const std::uint32_t near = near_walls_[i];
       // Most of a bed has no wall within reach and had no wall contact: skip the lot.
       if (previous > 0 || near != 0 || walls.size() > kMaskedWalls) {
-        const ForceTorque ft = add_wall_contacts(m, p, walls, i, dt, {f, t}, ws);
-        f = ft.force, t = ft.torque;
+        const int queued = batch.size;
+        add_wall_contacts(m, p, walls, i, dt, batch, ws, bad);
+        if (wall_count_[i] > 0 || batch.size != queued) continue;  // checked when its contacts are added
       } else {
         wall_count_[i] = 0;
       }
-
-      p.force[i] = f;
-      p.torque[i] = t;
       if (!is_finite(f) || !is_finite(t)) bad = std::min<std::int64_t>(bad, static_cast<std::int64_t>(i));
     }
+    flush_walls(batch, dt, p, ws, bad);
     wall_contacts += ws.contacts;
     overflow = std::min(overflow, ws.overflow);
     worst_wall = std::max(worst_wall, ws.worst_ratio);

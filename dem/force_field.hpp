@@ -32,6 +32,8 @@ namespace grainscale::dem {
 
 template <class Rolling>
 struct PairBatch;
+template <class Rolling>
+struct WallBatch;
 
 /// Worst state seen while computing forces; used by the blow-up check.
 struct ForceDiagnostics {
@@ -112,18 +114,19 @@ class ForceField {
   void flush_pairs(PairBatch<Rolling>& b, double dt, Particles& p, NeighborList& nl, OwnerSum& open,
                    double& worst_ratio, double& stiff_pair);
 
-  struct ForceTorque {
-    Vec3 force, torque;
-  };
   /// The wall contacts' part of the step's diagnostics, per thread.
   struct WallStats {
     std::size_t contacts = 0;
     std::int64_t overflow = std::numeric_limits<std::int64_t>::max();
     double worst_ratio = 0, stiffness_per_mass = 0;
   };
+  /// Sphere i's wall contacts (its force and torque so far already stored): found, their histories
+  /// matched, queued in `batch` (evaluated and added to the sphere by flush_walls).
   template <class Rolling>
-  ForceTorque add_wall_contacts(const Models<Rolling>& m, const Particles& p, const std::vector<Wall>& walls,
-                                std::size_t i, double dt, ForceTorque sum, WallStats& ws);
+  void add_wall_contacts(const Models<Rolling>& m, Particles& p, const std::vector<Wall>& walls, std::size_t i,
+                         double dt, WallBatch<Rolling>& batch, WallStats& ws, std::int64_t& bad);
+  template <class Rolling>
+  void flush_walls(WallBatch<Rolling>& batch, double dt, Particles& p, WallStats& ws, std::int64_t& bad);
 
   AnyModels models_;
   std::vector<int> wall_material_;
