@@ -93,8 +93,9 @@ inline double rotate_about_body_axis(int k, double t, Quat& q, Vec3& lb, const V
 /// turn by |omega| h about omega (the splitting below would give the same with five; profiling showed
 /// sincos at 24 % of a sphere run). Where the half angle x = |omega| h / 2 is within the series' range
 /// the turn's quaternion (cos x, sin x omega / |omega|) comes from series in x^2 (sin x / x and cos x,
-/// the terms of detail::sin_cos_series), so no square root, division or libm call: the sphere loop of
-/// a settled bed spent 5-7 % of its step in sincos (docs/performance.md).
+/// the terms of detail::sin_cos_series): no square root, division or libm call for the turn (the
+/// product is normalised as before). The body loop of a settled sphere bed spent 5-7 % of its step
+/// in libm's sincos (docs/performance.md).
 inline void free_rotation_isotropic(Quat& q, const Vec3& omega, double h) {
   const double w2 = norm2(omega);
   const double x2 = 0.25 * h * h * w2;

@@ -2,17 +2,13 @@
 // A batch of sphere-wall contacts, evaluated together so that the compiler vectorises the contact
 // models (dem/force_field.cpp, pass 2): the wall twin of PairBatch (dem/pair_batch.hpp).
 //
-// Why: one wall contact at a time spent most of its time waiting on the models' square roots and
-// divisions (perf: the wall contacts were 18-24 % of a settled sphere bed lying on its floor, 10 % of
-// the clump bed). Pass 2 finds each sphere's wall contacts, matches their histories and works out the
-// kinematics (the wall's geometry and motion stay there, one contact at a time); `evaluate` runs
-// the contact and rolling models over the batch in one vectorised loop; the caller then adds each
-// contact's force and torque to its sphere, in the order the contacts were found.
+// Why: the models' square roots and divisions, one contact at a time, left the wall contacts at
+// 18-24 % of a settled sphere bed on its floor (perf). Pass 2 finds a sphere's wall contacts, matches
+// their histories and works out the kinematics; `evaluate` runs the models over the batch; the
+// caller adds each contact to its sphere in the order found.
 //
-// Same numbers, bit for bit, as one at a time: the same expressions in the same order (the models are
-// branch-free; IEEE square root and division are exact in vector form; no FMA: -ffp-contract=off);
-// nothing is summed across contacts here. tests/dem/test_wall_batch.cpp checks it.
-#include <algorithm>
+// Same numbers, bit for bit, as one at a time, for the reasons PairBatch gives; nothing is summed
+// across contacts here (tests/dem/test_wall_batch.cpp).
 #include <cstdint>
 #include <limits>
 

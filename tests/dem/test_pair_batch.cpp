@@ -16,11 +16,14 @@
 #include "dem/pair_batch.hpp"
 #include "dem/particles.hpp"
 
+#include "batch_test_support.hpp"
+
 using namespace grainscale::dem;
+using grainscale::dem::testing::rolling_params;
+using grainscale::dem::testing::same_bits;
+using grainscale::dem::testing::sliding;
 
 namespace {
-
-bool same_bits(const Vec3& a, const Vec3& b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 
 struct OneContact {
   Vec3 force, torque_i, torque_j;
@@ -59,17 +62,6 @@ template <class Rolling>
   out.torque_j = tj - c.lever_j * nxft;
   return out;
 }
-
-template <class Rolling>
-typename Rolling::Params rolling_params(const PairProperties& pp);
-template <>
-NoRolling::Params rolling_params<NoRolling>(const PairProperties& pp) { return NoRolling::make(pp); }
-template <>
-ConstantTorqueRolling::Params rolling_params<ConstantTorqueRolling>(const PairProperties& pp) {
-  return ConstantTorqueRolling::make(pp);
-}
-template <>
-EpsdRolling::Params rolling_params<EpsdRolling>(const PairProperties& pp) { return EpsdRolling::make(pp, 2.25, 0.3); }
 
 }  // namespace
 
@@ -111,7 +103,7 @@ TEMPLATE_TEST_CASE("A vectorised batch of pair contacts gives one contact at a t
 
   b.evaluate(dt);
 
-  int sliding = 0;
+  int slides = 0;
   for (int k = 0; k < b.size; ++k) {
     INFO("contact " << k);
     const OneContact& e = expected[k];
@@ -120,15 +112,11 @@ TEMPLATE_TEST_CASE("A vectorised batch of pair contacts gives one contact at a t
     CHECK(same_bits(Vec3{b.tjx[k], b.tjy[k], b.tjz[k]}, e.torque_j));
     CHECK(same_bits(Vec3{b.sx[k], b.sy[k], b.sz[k]}, e.history.shear));
     CHECK(same_bits(Vec3{b.rx[k], b.ry[k], b.rz[k]}, e.history.rolling));
-    const Vec3 n{b.dx[k], b.dy[k], b.dz[k]};
-    const Vec3 f{b.fx[k], b.fy[k], b.fz[k]};
-    const Vec3 ft = f - (dot(f, n) / dot(n, n)) * n;
-    const double fn = dot(f, n) / norm(n);
-    sliding += norm(ft) > 0.999 * pp.friction * std::max(fn, 0.0);
+    slides += sliding(Vec3{b.fx[k], b.fy[k], b.fz[k]}, Vec3{b.dx[k], b.dy[k], b.dz[k]}, pp.friction);
   }
-  INFO(sliding << " of " << b.size << " contacts sliding");
-  CHECK(sliding > 3);  // the Coulomb branch is taken by some, not all
-  CHECK(sliding < b.size - 3);
+  INFO(slides << " of " << b.size << " contacts sliding");
+  CHECK(slides > 3);  // the Coulomb branch is taken by some, not all
+  CHECK(slides < b.size - 3);
 }
 
 TEST_CASE("A sphere with more contacts than a batch holds gets the one-at-a-time loop's force and torque bit for bit",
