@@ -30,20 +30,18 @@ ContactModels<Rolling> fill_models(const MaterialTable& mt, MakeRolling make_rol
   return m;
 }
 
-/// A new contact on feature s.feature of a wall takes over the history of a contact this particle
-/// had last step on an adjacent feature of the same wall that is no longer touched: a sphere rolling
-/// across a mesh edge keeps its tangential spring (no force jump).
-void inherit_history(const WallGeometry& g, const WallSlot* old, int previous, const WallHit* now, int found,
-                     WallSlot& s) {
+/// The history a new contact on `feature` of wall `wall` starts with: that of a contact this particle
+/// had last step on an adjacent feature of the same wall that is no longer touched (a sphere rolling
+/// across a mesh edge keeps its tangential spring: no force jump), else none.
+ContactHistory inherited_history(const WallGeometry& g, const WallSlot* old, int previous, const WallHit* now, int found,
+                                 std::int32_t wall, std::int32_t feature) {
   for (int o = 0; o < previous; ++o) {
-    if (old[o].wall != s.wall || !g.continues(old[o].feature, s.feature)) continue;
+    if (old[o].wall != wall || !g.continues(old[o].feature, feature)) continue;
     bool still_touched = false;
     for (int q = 0; q < found; ++q) still_touched |= now[q].feature == old[o].feature;
-    if (!still_touched) {
-      s.history = old[o].history;
-      return;
-    }
+    if (!still_touched) return old[o].history;
   }
+  return {};
 }
 
 }  // namespace
@@ -111,12 +109,14 @@ template <class Rolling>
       for (int o = 0; o < previous; ++o) {
         if (old[o].wall == wall && old[o].feature == wc.feature) match = o;
       }
-      if (match >= 0) {
-        s.history = old[match].history;
-      } else {
-        s.history = {};
-        if (previous > 0) inherit_history(walls[w].geometry(), old, previous, hits.data(), found, s);
-      }
+      // The history goes into the batch from where it is now, not through the slot (flush_walls
+      // writes the slot): read back in pieces right after a whole copy, it stalled on store
+      // forwarding.
+      const ContactHistory h =
+          match >= 0 ? old[match].history
+                     : (previous > 0 ? inherited_history(walls[w].geometry(), old, previous, hits.data(), found, wall,
+                                                         wc.feature)
+                                     : ContactHistory{});
       const int b = batch.size++;
       const double lever = ri - wc.overlap;  // as WallBatch::kinematics has it
       const Vec3 v_rel = vi - lever * cross(wi, wc.normal) - pose.surface_velocity(wc.point);
@@ -129,8 +129,8 @@ template <class Rolling>
       batch.mi[b] = mass_i, batch.ii[b] = inertia_i;
       batch.contact[b] = m.contact[pair];
       batch.rolling[b] = m.rolling[pair];
-      batch.sx[b] = s.history.shear.x, batch.sy[b] = s.history.shear.y, batch.sz[b] = s.history.shear.z;
-      batch.rx[b] = s.history.rolling.x, batch.ry[b] = s.history.rolling.y, batch.rz[b] = s.history.rolling.z;
+      batch.sx[b] = h.shear.x, batch.sy[b] = h.shear.y, batch.sz[b] = h.shear.z;
+      batch.rx[b] = h.rolling.x, batch.ry[b] = h.rolling.y, batch.rz[b] = h.rolling.z;
       batch.owner[b] = static_cast<std::uint32_t>(i);
       batch.slot[b] = &s;
     }
