@@ -4,6 +4,7 @@
 // list rebuild carries a history over to a pair that is already apart.
 #include <catch2/catch.hpp>
 
+#include <limits>
 #include <memory>
 #include <vector>
 
@@ -108,4 +109,45 @@ TEST_CASE("A static wall is asked about the spheres within reach of it at the li
   for (std::size_t i = 0; i < s.p.size(); ++i) s.p.x[i].z -= 0.01;  // back, 0.1 mm deep
   s.rebuild();
   CHECK(s.ff.compute(s.p, s.nl, s.walls, s.dt).wall_contacts == 2);
+}
+
+TEST_CASE("A non-finite force or torque is reported at the first slot that has one, with or without wall contacts",
+          "[dem][contact]") {
+  // The blow-up check (Simulation::check_health) names the particle from ForceDiagnostics::bad_slot.
+  // Pass 2 tests a sphere's sums as it finishes them, or, for a sphere at a wall, as its batched wall
+  // contacts are added: either way an infinity or a NaN in any of the six components is caught, and a
+  // finite state reports none.
+  const int where = GENERATE(0, 1, 2);  // the pair's first sphere, its second, a sphere on the floor
+  const int component = GENERATE(0, 1, 2, 3, 4, 5);  // which of v, omega goes bad (and so f or t)
+  const double bad = GENERATE(std::numeric_limits<double>::infinity(), std::numeric_limits<double>::quiet_NaN());
+  MaterialTable materials;
+  const int m = materials.add({"grain", 1380, 2.6e6, 0.3});
+  materials.set_pair(m, m, {0.5, 0.35, 0.08, true});
+  const double r = 0.003, skin = 0.001, dt = 1e-6;
+  Particles p;
+  p.add_sphere(0, m, r, 1380, {0.05, 0.05, 0.05});
+  p.add_sphere(1, m, r, 1380, {0.05 + 2 * r - 1e-4, 0.05, 0.05});
+  p.add_sphere(2, m, r, 1380, {0.2, 0.2, r - 1e-4});  // pressed into the floor, apart from the pair
+  std::vector<Wall> walls;
+  walls.emplace_back("floor", std::make_shared<PlaneGeometry>(Vec3{0, 0, 0}, Vec3{0, 0, 1}), m);
+  NeighborList nl;
+  const auto order = nl.sort_by_cell(p, skin);
+  p.permute(order);
+  nl.build(p, skin, order);
+  ForceField ff;
+  ff.setup(materials, walls, RollingSettings{});
+  REQUIRE(ff.compute(p, nl, walls, dt).bad_slot == -1);
+
+  std::size_t slot = 0;
+  while (p.id[slot] != static_cast<std::uint64_t>(where)) ++slot;
+  // A bad velocity component spoils the force; a bad angular velocity component the torque (through
+  // the tangential force, and for the constant-torque rolling model directly).
+  double* v = component < 3 ? &p.v[slot].x : &p.omega[slot].x;
+  v[component % 3] = bad;
+  const ForceDiagnostics d = ff.compute(p, nl, walls, dt);
+  INFO("sphere id " << where << ", component " << component << ", value " << bad);
+  CHECK(d.bad_slot >= 0);
+  if (d.bad_slot >= 0) CHECK((p.id[d.bad_slot] == 0 || p.id[d.bad_slot] == 1 || p.id[d.bad_slot] == 2));
+  if (where == 2) CHECK(d.bad_slot == static_cast<std::int64_t>(slot));  // alone: only it goes bad
+  CHECK(d.wall_contacts == 1);
 }
