@@ -12,6 +12,8 @@
 #include "dem/neighbor_list.hpp"
 #include "dem/walls/plane.hpp"
 
+
+#include "list_fixture.hpp"
 using namespace grainscale::dem;
 
 namespace {
@@ -33,9 +35,7 @@ struct TwoSpheres {
     rebuild();
   }
   void rebuild() {
-    const auto order = nl.sort_by_cell(p, skin);
-    p.permute(order);
-    nl.build(p, skin, order);
+    grainscale::dem::testing::build_list(nl, p, skin);
   }
   const ContactHistory& history() const {
     REQUIRE(nl.entries() == 1);
@@ -131,9 +131,7 @@ TEST_CASE("A non-finite force or torque is reported at the first slot that has o
   std::vector<Wall> walls;
   walls.emplace_back("floor", std::make_shared<PlaneGeometry>(Vec3{0, 0, 0}, Vec3{0, 0, 1}), m);
   NeighborList nl;
-  const auto order = nl.sort_by_cell(p, skin);
-  p.permute(order);
-  nl.build(p, skin, order);
+  grainscale::dem::testing::build_list(nl, p, skin);
   ForceField ff;
   ff.setup(materials, walls, RollingSettings{});
   REQUIRE(ff.compute(p, nl, walls, dt).bad_slot == -1);

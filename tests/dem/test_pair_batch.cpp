@@ -18,6 +18,7 @@
 
 #include "batch_test_support.hpp"
 
+#include "list_fixture.hpp"
 using namespace grainscale::dem;
 using grainscale::dem::testing::rolling_params;
 using grainscale::dem::testing::same_bits;
@@ -140,9 +141,7 @@ TEST_CASE("A sphere with more contacts than a batch holds gets the one-at-a-time
                  20 * Vec3{u(rng), u(rng), u(rng)});
   }
   NeighborList nl;
-  const auto order = nl.sort_by_cell(p, skin);
-  p.permute(order);
-  nl.build(p, skin, order);
+  grainscale::dem::testing::build_list(nl, p, skin);
   for (std::uint32_t k = 0; k < nl.entries(); ++k) {  // loaded springs: some contacts slide
     nl.history(k).shear = 1e-6 * Vec3{u(rng), u(rng), u(rng)};
   }

@@ -21,6 +21,7 @@
 
 #include "batch_test_support.hpp"
 
+#include "list_fixture.hpp"
 using namespace grainscale::dem;
 using grainscale::dem::testing::rolling_params;
 using grainscale::dem::testing::same_bits;
@@ -160,9 +161,7 @@ TEST_CASE("Spheres on a moving box's floor and in its corners get the one-at-a-t
   walls[0].set_pose(pose);
 
   NeighborList nl;
-  const auto order = nl.sort_by_cell(p, skin);
-  p.permute(order);
-  nl.build(p, skin, order);
+  grainscale::dem::testing::build_list(nl, p, skin);
   ForceField ff;
   ff.setup(materials, walls, RollingSettings{});
 
