@@ -15,6 +15,7 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr std::size_t kPrefetchAhead = 16;  // spheres
+constexpr std::size_t kPassBlock = 64;      // spheres per block of pass 1 (guided: chunks of 2 or more)
 
 /// Contact and rolling parameters for every material pair that is defined.
 template <class Rolling, class MakeRolling>
@@ -216,27 +217,41 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
   // only finds the touching pairs and gathers them into a batch per thread; a full batch is evaluated
   // at once, vectorised, then summed and stored (dem/pair_batch.hpp; the same numbers as one contact
   // at a time). A sphere's sums stay open across a batch that ends inside its entries.
+  // The loop walks a block's entries, not its spheres: in a settled bed most spheres own no entry
+  // (the clump bed: 0.5 per sphere), and a sphere loop paid for each a mispredicted "any entries?"
+  // branch and the loads of its state (perf: a fifth of this pass). A block's forces and torques are
+  // zeroed first; the spheres with touching entries get their sums when they are complete.
   // (Plain local pointers: a one-byte store through a member vector, the contact flags, may alias
   // anything, and GCC reloaded every array's address from memory after each one.)
   const Vec3 *const x = p.x.data(), *const v = p.v.data(), *const omega = p.omega.data();
   const double *const radius = p.radius.data(), *const mass = p.mass.data(), *const inertia = p.inertia.data();
   const std::int32_t* const material = p.material.data();
   const std::uint32_t *const start = nl.starts().data(), *const partner = nl.partners().data();
-  const std::uint32_t* const rev_position = nl.rev_positions().data();
+  const std::uint32_t *const owner = nl.owners().data(), *const rev_position = nl.rev_positions().data();
   ContactHistory* const history = nl.history_data();
   std::uint8_t *const touching = touching_.data(), *const partner_touching = partner_touching_.data();
+  Vec3 *const force = p.force.data(), *const torque = p.torque.data();
+  const std::size_t blocks = (n + kPassBlock - 1) / kPassBlock;
 #pragma omp parallel if(n >= parallel_min_items()) reduction(+ : contacts) reduction(max : worst_ratio, stiff_pair)
   {
     PairBatch<Rolling> batch;
     OwnerSum open{n};
-#pragma omp for schedule(guided, 128) nowait
-    for (std::size_t i = 0; i < n; ++i) {
-      const Vec3 xi = x[i], vi = v[i], wi = omega[i];
-      const double ri = radius[i], mass_i = mass[i], inertia_i = inertia[i];
-      const int row = material[i] * m.materials;
-      const std::uint32_t first = start[i], last = start[i + 1];
+#pragma omp for schedule(guided, 2) nowait
+    for (std::size_t block = 0; block < blocks; ++block) {
+      const std::size_t lo = block * kPassBlock, hi = std::min(n, lo + kPassBlock);
+      for (std::size_t i = lo; i < hi; ++i) force[i] = {}, torque[i] = {};
+      std::uint32_t i = ~0u;  // the owner whose state is loaded
+      Vec3 xi, vi, wi;
+      double ri = 0, mass_i = 0, inertia_i = 0;
+      int row = 0;
       int b = batch.size;  // in a register, stored back before a flush
-      for (std::uint32_t k = first; k < last; ++k) {
+      for (std::uint32_t k = start[lo], last = start[hi]; k < last; ++k) {
+        if (owner[k] != i) {
+          i = owner[k];
+          xi = x[i], vi = v[i], wi = omega[i];
+          ri = radius[i], mass_i = mass[i], inertia_i = inertia[i];
+          row = material[i] * m.materials;
+        }
         const std::uint32_t j = partner[k];
         const Vec3 d = xi - x[j];
         const double rsum = ri + radius[j];
@@ -266,18 +281,17 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
         const ContactHistory& h = history[k];
         batch.sx[b] = h.shear.x, batch.sy[b] = h.shear.y, batch.sz[b] = h.shear.z;
         batch.rx[b] = h.rolling.x, batch.ry[b] = h.rolling.y, batch.rz[b] = h.rolling.z;
-        batch.owner[b] = static_cast<std::uint32_t>(i), batch.entry[b] = k, batch.rev[b] = r;
+        batch.owner[b] = i, batch.entry[b] = k, batch.rev[b] = r;
         if (++b == PairBatch<Rolling>::kCapacity) {
           batch.size = b;
           flush_pairs(batch, dt, p, nl, open, worst_ratio, stiff_pair);
           b = 0;
         }
       }
-      if (b == batch.size && open.slot != i) p.force[i] = {}, p.torque[i] = {};  // no contact
       batch.size = b;
     }
     flush_pairs(batch, dt, p, nl, open, worst_ratio, stiff_pair);
-    if (open.slot < n) p.force[open.slot] = open.force, p.torque[open.slot] = open.torque;
+    if (open.slot < n) force[open.slot] = open.force, torque[open.slot] = open.torque;
   }
 
   // Pass 2: add the partner shares in reverse-range order, and the sphere's wall contacts. (Gravity acts on

@@ -60,6 +60,8 @@ class NeighborList {
   /// Where entry k sits in its partner's reverse range: rev_entry(rev_position(k)) == k.
   std::uint32_t rev_position(std::uint32_t k) const { return rev_position_[k]; }
   std::uint32_t partner(std::uint32_t k) const { return partner_[k]; }
+  /// The particle whose row holds entry k: begin(owner(k)) <= k < end(owner(k)).
+  std::uint32_t owner(std::uint32_t k) const { return owner_[k]; }
   ContactHistory& history(std::uint32_t k) { return history_[k]; }
   const ContactHistory& history(std::uint32_t k) const { return history_[k]; }
   std::size_t entries() const { return partner_.size(); }
@@ -76,9 +78,11 @@ class NeighborList {
   const std::vector<std::uint32_t>& starts() const { return start_; }
   const std::vector<std::uint32_t>& partners() const { return partner_; }
   const std::vector<ContactHistory>& histories() const { return history_; }
-  /// The reverse index as arrays (the force loop reads them through plain pointers).
+  /// The reverse index and the entries' owners as arrays (the force loop reads them through plain
+  /// pointers).
   const std::vector<std::uint32_t>& rev_starts() const { return rev_start_; }
   const std::vector<std::uint32_t>& rev_positions() const { return rev_position_; }
+  const std::vector<std::uint32_t>& owners() const { return owner_; }
   ContactHistory* history_data() { return history_.data(); }
   /// Reinstate a list saved from starts(), partners() and histories() for particles `p` in the slot
   /// order they had then (plus any added since, at the end); the reverse index is rebuilt from it. The next build() carries the
@@ -137,6 +141,7 @@ class NeighborList {
   std::vector<std::uint32_t> old_start_, old_partner_;
   std::vector<ContactHistory> old_history_;
   std::vector<std::uint32_t> rev_start_, rev_entry_, rev_position_, rev_fill_;
+  std::vector<std::uint32_t> owner_;  // per entry: its row (the force loop walks entries, not rows)
   double skin_ = 0;
   std::size_t builds_ = 0;
   std::uint64_t generation_ = 0;

@@ -87,6 +87,12 @@ TEST_CASE("Neighbour list equals the brute-force pair list", "[dem][neighbor]") 
     }
   CHECK(seen == nl.entries());
 
+  // Every entry knows its row (the force loop walks entries): owner(k) = i for k in [begin(i), end(i)).
+  std::size_t owned = 0;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    for (auto k = nl.begin(i); k < nl.end(i); ++k) owned += nl.owner(k) == i;
+  CHECK(owned == nl.entries());
+
   // Move everything a little, rebuild (reordering the slots), compare again.
   std::mt19937_64 rng(5);
   std::normal_distribution<double> jitter(0, 0.002);
