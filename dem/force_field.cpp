@@ -302,52 +302,55 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
   // and read by the other; guided's first chunks are half and a quarter of the spheres (17.3/17.3 ->
   // 18.1/17.6 M, A/B pairs).
   // The wall contacts are a function of their own, not inlined: most spheres skip them, and inlined
-  // they left too few registers for the partner sum (perf: its running sum stored and reloaded on
-  // every entry).
+  // they left too few registers for the sphere loop.
   std::int64_t bad = std::numeric_limits<std::int64_t>::max();
   std::int64_t overflow = std::numeric_limits<std::int64_t>::max();
   double worst_wall = 0, stiff_wall = 0;
-  const std::uint32_t* const rev_start = nl.rev_starts().data();
+  const std::uint32_t *const rev_start = nl.rev_starts().data(), *const rev_owner = nl.rev_owners().data();
   const PartnerShare* const share = partner_share_.data();
 #pragma omp parallel if(n >= parallel_min_items()) reduction(+ : wall_contacts) reduction(min : bad, overflow) \
     reduction(max : worst_wall, stiff_wall)
   {
     WallStats ws;
     WallBatch<Rolling> batch;
-#pragma omp for schedule(guided, 128) nowait
-    for (std::size_t i = 0; i < n; ++i) {
-      Vec3 f = p.force[i], t = p.torque[i];  // the owner's share, from pass 1
-      for (std::uint32_t r = rev_start[i]; r < rev_start[i + 1]; ++r) {
+#pragma omp for schedule(guided, 2) nowait
+    for (std::size_t block = 0; block < blocks; ++block) {
+      const std::size_t lo = block * kPassBlock, hi = std::min(n, lo + kPassBlock);
+      // The partner shares, walked by reverse position as pass 1 walks entries (most spheres of a
+      // settled bed have none: no per-sphere branch on it); each sphere's in reverse-range order,
+      // added to what pass 1 stored: the sums a loop per sphere takes.
+      for (std::uint32_t r = rev_start[lo], last = rev_start[hi]; r < last; ++r) {
         if (!partner_touching[r]) continue;
-        f -= share[r].force;
-        t += share[r].torque;
+        const std::uint32_t i = rev_owner[r];
+        force[i] -= share[r].force;
+        torque[i] += share[r].torque;
       }
-      p.force[i] = f;
-      p.torque[i] = t;
-
-      // A sphere's wall slots are a cache line or more apart from the next one's, and only spheres at
-      // a wall use them, so no hardware prefetcher follows: fetch them a few spheres ahead.
-      if (i + kPrefetchAhead < n && count_scratch_[i + kPrefetchAhead] > 0) {
-        // (A slot is 56 bytes: its first one may straddle two lines.)
-        const char* old_slots = reinterpret_cast<const char*>(&wall_scratch_[(i + kPrefetchAhead) * kWallSlots]);
-        const char* new_slots = reinterpret_cast<const char*>(&wall_slots_[(i + kPrefetchAhead) * kWallSlots]);
-        __builtin_prefetch(old_slots), __builtin_prefetch(old_slots + sizeof(WallSlot) - 1);
-        __builtin_prefetch(new_slots, 1), __builtin_prefetch(new_slots + sizeof(WallSlot) - 1, 1);
+      for (std::size_t i = lo; i < hi; ++i) {
+        // A sphere's wall slots are a cache line or more apart from the next one's, and only spheres at
+        // a wall use them, so no hardware prefetcher follows: fetch them a few spheres ahead.
+        if (i + kPrefetchAhead < n && count_scratch_[i + kPrefetchAhead] > 0) {
+          // (A slot is 56 bytes: its first one may straddle two lines.)
+          const char* old_slots = reinterpret_cast<const char*>(&wall_scratch_[(i + kPrefetchAhead) * kWallSlots]);
+          const char* new_slots = reinterpret_cast<const char*>(&wall_slots_[(i + kPrefetchAhead) * kWallSlots]);
+          __builtin_prefetch(old_slots), __builtin_prefetch(old_slots + sizeof(WallSlot) - 1);
+          __builtin_prefetch(new_slots, 1), __builtin_prefetch(new_slots + sizeof(WallSlot) - 1, 1);
+        }
+        const int previous = count_scratch_[i];
+        const std::uint32_t near = near_walls_[i];
+        // Most of a bed has no wall within reach and had no wall contact: skip the lot.
+        if (previous > 0 || near != 0 || walls.size() > kMaskedWalls) {
+          const int queued = batch.size;
+          add_wall_contacts(m, p, walls, i, dt, batch, ws, bad);
+          if (wall_count_[i] > 0 || batch.size != queued) continue;  // checked when its contacts are added
+        } else {
+          wall_count_[i] = 0;
+        }
+        // x * 0 is 0 for a finite x and NaN for an infinity or a NaN: one test for all six (no branch
+        // per component on every sphere).
+        const Vec3 f = force[i], t = torque[i];
+        const double probe = (f.x * 0 + f.y * 0 + f.z * 0) + (t.x * 0 + t.y * 0 + t.z * 0);
+        if (probe != 0) bad = std::min<std::int64_t>(bad, static_cast<std::int64_t>(i));
       }
-      const int previous = count_scratch_[i];
-      const std::uint32_t near = near_walls_[i];
-      // Most of a bed has no wall within reach and had no wall contact: skip the lot.
-      if (previous > 0 || near != 0 || walls.size() > kMaskedWalls) {
-        const int queued = batch.size;
-        add_wall_contacts(m, p, walls, i, dt, batch, ws, bad);
-        if (wall_count_[i] > 0 || batch.size != queued) continue;  // checked when its contacts are added
-      } else {
-        wall_count_[i] = 0;
-      }
-      // x * 0 is 0 for a finite x and NaN for an infinity or a NaN: one test for all six (no branch
-      // per component on every sphere).
-      const double probe = (f.x * 0 + f.y * 0 + f.z * 0) + (t.x * 0 + t.y * 0 + t.z * 0);
-      if (probe != 0) bad = std::min<std::int64_t>(bad, static_cast<std::int64_t>(i));
     }
     flush_walls(batch, dt, p, ws, bad);
     wall_contacts += ws.contacts;

@@ -245,10 +245,12 @@ void NeighborList::index_partners(std::size_t n) {
   rev_fill_.assign(rev_start_.begin(), rev_start_.end() - 1);
   rev_entry_.resize(partner_.size());
   rev_position_.resize(partner_.size());
+  rev_owner_.resize(partner_.size());
   for (std::uint32_t k = 0; k < partner_.size(); ++k) {
     const std::uint32_t r = rev_fill_[partner_[k]]++;
     rev_entry_[r] = k;
     rev_position_[k] = r;
+    rev_owner_[r] = partner_[k];
   }
   owner_.resize(partner_.size());
   for (std::size_t i = 0; i < n; ++i) std::fill(owner_.begin() + start_[i], owner_.begin() + start_[i + 1], static_cast<std::uint32_t>(i));
@@ -296,7 +298,8 @@ void NeighborList::restore(const Particles& p, double skin, std::vector<std::uin
 std::size_t NeighborList::bytes() const {
   std::size_t words = cell_start_.capacity() + cell_index_.capacity() + order_.capacity() + start_.capacity() +
                       partner_.capacity() + count_.capacity() + old_start_.capacity() + old_partner_.capacity() +
-                      rev_start_.capacity() + rev_entry_.capacity() + rev_position_.capacity() + rev_fill_.capacity() + owner_.capacity();
+                      rev_start_.capacity() + rev_entry_.capacity() + rev_position_.capacity() + rev_fill_.capacity() + owner_.capacity() +
+                      rev_owner_.capacity();
   for (const auto& t : thread_partners_) words += t.capacity();
   return words * 4 + (history_.capacity() + old_history_.capacity()) * sizeof(ContactHistory);
 }

@@ -62,6 +62,8 @@ class NeighborList {
   std::uint32_t partner(std::uint32_t k) const { return partner_[k]; }
   /// The particle whose row holds entry k: begin(owner(k)) <= k < end(owner(k)).
   std::uint32_t owner(std::uint32_t k) const { return owner_[k]; }
+  /// The particle whose reverse range holds position r: rev_begin(i) <= r < rev_end(i) for i = rev_owner(r).
+  std::uint32_t rev_owner(std::uint32_t r) const { return rev_owner_[r]; }
   ContactHistory& history(std::uint32_t k) { return history_[k]; }
   const ContactHistory& history(std::uint32_t k) const { return history_[k]; }
   std::size_t entries() const { return partner_.size(); }
@@ -83,6 +85,8 @@ class NeighborList {
   const std::vector<std::uint32_t>& rev_starts() const { return rev_start_; }
   const std::vector<std::uint32_t>& rev_positions() const { return rev_position_; }
   const std::vector<std::uint32_t>& owners() const { return owner_; }
+  /// Per reverse position r: the particle whose reverse range holds it (the partner of rev_entry(r)).
+  const std::vector<std::uint32_t>& rev_owners() const { return rev_owner_; }
   ContactHistory* history_data() { return history_.data(); }
   /// Reinstate a list saved from starts(), partners() and histories() for particles `p` in the slot
   /// order they had then (plus any added since, at the end); the reverse index is rebuilt from it. The next build() carries the
@@ -141,7 +145,8 @@ class NeighborList {
   std::vector<std::uint32_t> old_start_, old_partner_;
   std::vector<ContactHistory> old_history_;
   std::vector<std::uint32_t> rev_start_, rev_entry_, rev_position_, rev_fill_;
-  std::vector<std::uint32_t> owner_;  // per entry: its row (the force loop walks entries, not rows)
+  std::vector<std::uint32_t> owner_;      // per entry: its row (the force loop walks entries, not rows)
+  std::vector<std::uint32_t> rev_owner_;  // per reverse position: its particle
   double skin_ = 0;
   std::size_t builds_ = 0;
   std::uint64_t generation_ = 0;

@@ -83,6 +83,7 @@ TEST_CASE("Neighbour list equals the brute-force pair list", "[dem][neighbor]") 
   for (std::size_t i = 0; i < p.size(); ++i)
     for (auto r = nl.rev_begin(i); r < nl.rev_end(i); ++r) {
       CHECK(nl.partner(nl.rev_entry(r)) == i);
+      CHECK(nl.rev_owner(r) == i);
       ++seen;
     }
   CHECK(seen == nl.entries());
