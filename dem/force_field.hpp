@@ -109,6 +109,10 @@ class ForceField {
   static bool out_of_reach(const std::uint32_t* masks, std::size_t i, std::size_t w) {
     return masks != nullptr && w < kMaskedWalls && !(masks[i] >> w & 1u);
   }
+  /// True if `masks` rule out any contact of particle i with all `walls` walls.
+  static bool all_out_of_reach(const std::uint32_t* masks, std::size_t i, std::size_t walls) {
+    return masks != nullptr && walls <= kMaskedWalls && masks[i] == 0;
+  }
 
  private:
   template <class Rolling>

@@ -23,33 +23,38 @@ double margin_of(double omega_dt, double zeta) { return omega_dt / (2 * (std::sq
 }  // namespace
 
 /// Calls visit(body, lever, normal, other_body or -1, other_lever, S_n, c_n) for every contact, once
-/// per pair (the visitor handles both sides).
+/// per pair (the visitor handles both sides): the pairs in entry order, then the wall contacts sphere
+/// by sphere. The pairs are walked by entry, not by sphere (most spheres of a settled bed own no
+/// entry: a loop per sphere paid a mispredicted branch for each, as the force loop did).
 template <class Visit>
 void StepStabilityMonitor::for_each_contact(const Particles& p, const Bodies& b, const NeighborList& nl,
                                             const std::vector<Wall>& walls, const ForceField& forces,
                                             Visit&& visit) const {
+  for (std::uint32_t k = 0; k < nl.entries(); ++k) {
+    const std::uint32_t i = nl.owner(k), j = nl.partner(k);
+    const Vec3 d = p.x[i] - p.x[j];
+    const double rsum = p.radius[i] + p.radius[j];
+    const double dist2 = norm2(d);
+    if (dist2 >= rsum * rsum) continue;
+    const double dist = std::sqrt(dist2);
+    const std::uint32_t bi = p.body[i];
+    const Vec3 n = (1.0 / dist) * d;
+    const double overlap = rsum - dist;
+    const Vec3 point = p.x[i] - (p.radius[i] - 0.5 * overlap) * n;
+    const std::uint32_t bj = p.body[j];
+    const HertzMindlin::Params& hm = forces.contact_params(p.material[i], p.material[j]);
+    const double r_eff = p.radius[i] * p.radius[j] / rsum;
+    const double m_eff = b.mass[bi] * b.mass[bj] / (b.mass[bi] + b.mass[bj]);
+    const double s_n = 2.0 * hm.e_eff * std::sqrt(r_eff * overlap);
+    visit(bi, point - b.x[bi], n, static_cast<std::int64_t>(bj), point - b.x[bj], s_n,
+          hm.damping * std::sqrt(s_n * m_eff));
+  }
   // Walls out of a sphere's reach skipped as the force loop skips them (asking every wall of every
   // sphere was a third of this loop on the clump bed; BoxGeometry::nearby in the profile).
   const std::uint32_t* near = forces.near_wall_masks(walls, nl, p.size());
   for (std::size_t i = 0; i < p.size(); ++i) {
+    if (walls.empty() || ForceField::all_out_of_reach(near, i, walls.size())) continue;
     const std::uint32_t bi = p.body[i];
-    for (std::uint32_t k = nl.begin(i); k < nl.end(i); ++k) {
-      const std::uint32_t j = nl.partner(k);
-      const Vec3 d = p.x[i] - p.x[j];
-      const double rsum = p.radius[i] + p.radius[j];
-      const double dist = norm(d);
-      if (dist >= rsum) continue;
-      const Vec3 n = (1.0 / dist) * d;
-      const double overlap = rsum - dist;
-      const Vec3 point = p.x[i] - (p.radius[i] - 0.5 * overlap) * n;
-      const std::uint32_t bj = p.body[j];
-      const HertzMindlin::Params& hm = forces.contact_params(p.material[i], p.material[j]);
-      const double r_eff = p.radius[i] * p.radius[j] / rsum;
-      const double m_eff = b.mass[bi] * b.mass[bj] / (b.mass[bi] + b.mass[bj]);
-      const double s_n = 2.0 * hm.e_eff * std::sqrt(r_eff * overlap);
-      visit(bi, point - b.x[bi], n, static_cast<std::int64_t>(bj), point - b.x[bj], s_n,
-            hm.damping * std::sqrt(s_n * m_eff));
-    }
     for (std::size_t wi = 0; wi < walls.size(); ++wi) {
       if (ForceField::out_of_reach(near, i, wi)) continue;
       const Wall& w = walls[wi];
