@@ -23,7 +23,7 @@ constexpr std::size_t kPrefetchAhead = 16;  // spheres
 // 10^4 spheres (16 MB) fit a 32 MiB L3, 10^5 (160 MB) do not.
 constexpr std::size_t kPrefetchEntries = 24;
 constexpr std::size_t kPrefetchFromSpheres = 50000;
-constexpr std::size_t kPassBlock = 64;      // spheres per block of pass 1 (guided: chunks of 2 or more)
+constexpr std::size_t kPassBlock = 64;  // spheres per block in both passes (guided: chunks of 2 or more)
 
 /// Contact and rolling parameters for every material pair that is defined.
 template <class Rolling, class MakeRolling>

@@ -98,12 +98,11 @@ class ForceField {
 
   /// The near-wall masks the last compute() made, per particle slot, while they hold: made for this
   /// list (no build since) and these `n` particles, and `walls` not moved beyond their margins since;
-  /// else nullptr. Lets
-  /// other per-contact loops (the step-stability monitor) skip walls out of reach as the force loop
-  /// does, finding the same contacts.
+  /// else nullptr. Lets other per-contact loops (the step-stability monitor) skip walls out of reach
+  /// as the force loop does, finding the same contacts.
   const std::uint32_t* near_wall_masks(const std::vector<Wall>& walls, const NeighborList& nl, std::size_t n) const {
-    return list_generation_ == nl.generation() && near_walls_.size() == n && walls_where_found(walls) ? near_walls_.data()
-                                                                                                     : nullptr;
+    const bool hold = list_generation_ == nl.generation() && near_walls_.size() == n && walls_where_found(walls);
+    return hold ? near_walls_.data() : nullptr;
   }
   /// True if `masks` (from near_wall_masks, may be null) rule out any contact of particle i with wall w.
   static bool out_of_reach(const std::uint32_t* masks, std::size_t i, std::size_t w) {

@@ -253,7 +253,9 @@ void NeighborList::index_partners(std::size_t n) {
     rev_owner_[r] = partner_[k];
   }
   owner_.resize(partner_.size());
-  for (std::size_t i = 0; i < n; ++i) std::fill(owner_.begin() + start_[i], owner_.begin() + start_[i + 1], static_cast<std::uint32_t>(i));
+  for (std::size_t i = 0; i < n; ++i) {
+    std::fill(owner_.begin() + start_[i], owner_.begin() + start_[i + 1], static_cast<std::uint32_t>(i));
+  }
 }
 
 void NeighborList::restore(const Particles& p, double skin, std::vector<std::uint32_t> start,
@@ -298,8 +300,8 @@ void NeighborList::restore(const Particles& p, double skin, std::vector<std::uin
 std::size_t NeighborList::bytes() const {
   std::size_t words = cell_start_.capacity() + cell_index_.capacity() + order_.capacity() + start_.capacity() +
                       partner_.capacity() + count_.capacity() + old_start_.capacity() + old_partner_.capacity() +
-                      rev_start_.capacity() + rev_entry_.capacity() + rev_position_.capacity() + rev_fill_.capacity() + owner_.capacity() +
-                      rev_owner_.capacity();
+                      rev_start_.capacity() + rev_entry_.capacity() + rev_position_.capacity() + rev_fill_.capacity() +
+                      owner_.capacity() + rev_owner_.capacity();
   for (const auto& t : thread_partners_) words += t.capacity();
   return words * 4 + (history_.capacity() + old_history_.capacity()) * sizeof(ContactHistory);
 }

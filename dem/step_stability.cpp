@@ -11,13 +11,6 @@ namespace grainscale::dem {
 
 namespace {
 
-/// 1/m + (r x n)^T I^-1 (r x n): inverse effective mass of body k for a push along n at x + r.
-double compliance(const Bodies& b, std::size_t k, const Vec3& r, const Vec3& n) {
-  const Vec3 rn = to_body(b.q[k], cross(r, n));
-  const Vec3& I = b.inertia[k];
-  return b.inv_mass[k] + rn.x * rn.x / I.x + rn.y * rn.y / I.y + rn.z * rn.z / I.z;
-}
-
 double margin_of(double omega_dt, double zeta) { return omega_dt / (2 * (std::sqrt(1 + zeta * zeta) - zeta)); }
 
 }  // namespace
@@ -74,6 +67,23 @@ void StepStabilityMonitor::for_each_contact(const Particles& p, const Bodies& b,
 StepStability StepStabilityMonitor::assess(const Particles& p, const Bodies& b, const NeighborList& nl,
                                            const std::vector<Wall>& walls, const ForceField& forces, double dt) {
   const std::size_t nb = b.size();
+  // 1/m + (r x n)^T I_world^-1 (r x n) is body k's inverse effective mass for a push along n at
+  // x + r. I_world^-1 = sum_a e_a e_a^T / I_a over the principal axes e_a (columns of R): made once
+  // per body here, not turned into the body frame at every contact (three divisions each: a quarter
+  // of the check on the clump bed).
+  mobility_.resize(nb);
+  for (std::size_t k = 0; k < nb; ++k) {
+    const Vec3 inv{1 / b.inertia[k].x, 1 / b.inertia[k].y, 1 / b.inertia[k].z};
+    const Vec3 e1 = rotate(b.q[k], {1, 0, 0}), e2 = rotate(b.q[k], {0, 1, 0}), e3 = rotate(b.q[k], {0, 0, 1});
+    Mobility& m = mobility_[k];
+    m.inv_mass = b.inv_mass[k];
+    m.xx = inv.x * e1.x * e1.x + inv.y * e2.x * e2.x + inv.z * e3.x * e3.x;
+    m.yy = inv.x * e1.y * e1.y + inv.y * e2.y * e2.y + inv.z * e3.y * e3.y;
+    m.zz = inv.x * e1.z * e1.z + inv.y * e2.z * e2.z + inv.z * e3.z * e3.z;
+    m.xy = inv.x * e1.x * e1.y + inv.y * e2.x * e2.y + inv.z * e3.x * e3.y;
+    m.xz = inv.x * e1.x * e1.z + inv.y * e2.x * e2.z + inv.z * e3.x * e3.z;
+    m.yz = inv.x * e1.y * e1.z + inv.y * e2.y * e2.z + inv.z * e3.y * e3.z;
+  }
   omega2_.assign(nb, 0.0);
   damping_rate_.assign(nb, 0.0);
   count_.assign(nb, 0);
@@ -82,8 +92,8 @@ StepStability StepStabilityMonitor::assess(const Particles& p, const Bodies& b, 
   for_each_contact(p, b, nl, walls, forces,
                    [&](std::size_t bi, const Vec3& ri, const Vec3& n, std::int64_t bj, const Vec3& rj, double s_n,
                        double c_n) {
-                     const double ai = compliance(b, bi, ri, n);
-                     const double aj = bj >= 0 ? compliance(b, static_cast<std::size_t>(bj), rj, n) : 0.0;
+                     const double ai = mobility_[bi].compliance(ri, n);
+                     const double aj = bj >= 0 ? mobility_[static_cast<std::size_t>(bj)].compliance(rj, n) : 0.0;
                      const double cross_term = std::sqrt(ai * aj);
                      omega2_[bi] += s_n * (ai + cross_term);
                      damping_rate_[bi] += c_n * (ai + cross_term);
@@ -117,8 +127,8 @@ StepStability StepStabilityMonitor::assess(const Particles& p, const Bodies& b, 
   for_each_contact(p, b, nl, walls, forces,
                    [&](std::size_t bi, const Vec3& ri, const Vec3& n, std::int64_t bj, const Vec3& rj, double s_n,
                        double c_n) {
-                     const double ai = compliance(b, bi, ri, n);
-                     const double aj = bj >= 0 ? compliance(b, static_cast<std::size_t>(bj), rj, n) : 0.0;
+                     const double ai = mobility_[bi].compliance(ri, n);
+                     const double aj = bj >= 0 ? mobility_[static_cast<std::size_t>(bj)].compliance(rj, n) : 0.0;
                      if (suspect_[bi] >= 0) {
                        const double f = 1 + std::sqrt(aj / ai);
                        springs_[suspect_[bi]].push_back({n, ri, f * s_n, f * c_n});

@@ -66,6 +66,18 @@ class StepStabilityMonitor {
   void for_each_contact(const Particles& p, const Bodies& b, const NeighborList& nl, const std::vector<Wall>& walls,
                         const ForceField& forces, Visit&& visit) const;
 
+  /// A body's compliance at a contact without turning the lever into the body frame each time:
+  /// 1/m + c^T I_world^-1 c for c = r x n, with I_world^-1 = R diag(1/I) R^T made once per check.
+  struct Mobility {
+    double inv_mass, xx, yy, zz, xy, xz, yz;  // 1/m and the symmetric I_world^-1
+    double compliance(const Vec3& r, const Vec3& n) const {
+      const Vec3 c = cross(r, n);
+      return inv_mass + (xx * c.x * c.x + yy * c.y * c.y + zz * c.z * c.z) +
+             2 * (xy * c.x * c.y + xz * c.x * c.z + yz * c.y * c.z);
+    }
+  };
+
+  std::vector<Mobility> mobility_;              // per body, made at each check
   std::vector<double> omega2_, damping_rate_;  // per body, reused between calls
   std::vector<int> count_, suspect_;           // suspect_[b]: index into springs_start_ or -1
   std::vector<std::vector<Spring>> springs_;   // per suspect body
