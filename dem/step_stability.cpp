@@ -5,11 +5,13 @@
 #include <cmath>
 #include <sstream>
 
-#include "dem/rigid_rotation.hpp"
 
 namespace grainscale::dem {
 
 namespace {
+
+/// R (principal frame -> world) of orientation q.
+Eigen::Matrix3d rotation_matrix(const Quat& q) { return Eigen::Quaterniond(q.w, q.x, q.y, q.z).toRotationMatrix(); }
 
 double margin_of(double omega_dt, double zeta) { return omega_dt / (2 * (std::sqrt(1 + zeta * zeta) - zeta)); }
 
@@ -46,7 +48,7 @@ void StepStabilityMonitor::for_each_contact(const Particles& p, const Bodies& b,
   // sphere was a third of this loop on the clump bed; BoxGeometry::nearby in the profile).
   const std::uint32_t* near = forces.near_wall_masks(walls, nl, p.size());
   for (std::size_t i = 0; i < p.size(); ++i) {
-    if (walls.empty() || ForceField::all_out_of_reach(near, i, walls.size())) continue;
+    if (ForceField::all_out_of_reach(near, i, walls.size())) continue;
     const std::uint32_t bi = p.body[i];
     for (std::size_t wi = 0; wi < walls.size(); ++wi) {
       if (ForceField::out_of_reach(near, i, wi)) continue;
@@ -68,21 +70,14 @@ StepStability StepStabilityMonitor::assess(const Particles& p, const Bodies& b, 
                                            const std::vector<Wall>& walls, const ForceField& forces, double dt) {
   const std::size_t nb = b.size();
   // 1/m + (r x n)^T I_world^-1 (r x n) is body k's inverse effective mass for a push along n at
-  // x + r. I_world^-1 = sum_a e_a e_a^T / I_a over the principal axes e_a (columns of R): made once
-  // per body here, not turned into the body frame at every contact (three divisions each: a quarter
-  // of the check on the clump bed).
+  // x + r. I_world^-1 = R diag(1/I) R^T is made once per body here, not by turning every lever into
+  // the body frame (three divisions per contact side: a quarter of the check on the clump bed).
   mobility_.resize(nb);
   for (std::size_t k = 0; k < nb; ++k) {
-    const Vec3 inv{1 / b.inertia[k].x, 1 / b.inertia[k].y, 1 / b.inertia[k].z};
-    const Vec3 e1 = rotate(b.q[k], {1, 0, 0}), e2 = rotate(b.q[k], {0, 1, 0}), e3 = rotate(b.q[k], {0, 0, 1});
-    Mobility& m = mobility_[k];
-    m.inv_mass = b.inv_mass[k];
-    m.xx = inv.x * e1.x * e1.x + inv.y * e2.x * e2.x + inv.z * e3.x * e3.x;
-    m.yy = inv.x * e1.y * e1.y + inv.y * e2.y * e2.y + inv.z * e3.y * e3.y;
-    m.zz = inv.x * e1.z * e1.z + inv.y * e2.z * e2.z + inv.z * e3.z * e3.z;
-    m.xy = inv.x * e1.x * e1.y + inv.y * e2.x * e2.y + inv.z * e3.x * e3.y;
-    m.xz = inv.x * e1.x * e1.z + inv.y * e2.x * e2.z + inv.z * e3.x * e3.z;
-    m.yz = inv.x * e1.y * e1.z + inv.y * e2.y * e2.z + inv.z * e3.y * e3.z;
+    const Eigen::Matrix3d R = rotation_matrix(b.q[k]);
+    const Eigen::Vector3d inv_I(1 / b.inertia[k].x, 1 / b.inertia[k].y, 1 / b.inertia[k].z);
+    const Eigen::Matrix3d w = R * inv_I.asDiagonal() * R.transpose();
+    mobility_[k] = {b.inv_mass[k], w(0, 0), w(1, 1), w(2, 2), w(0, 1), w(0, 2), w(1, 2)};
   }
   omega2_.assign(nb, 0.0);
   damping_rate_.assign(nb, 0.0);
@@ -143,8 +138,7 @@ StepStability StepStabilityMonitor::assess(const Particles& p, const Bodies& b, 
   for (std::size_t k = 0; k < nb; ++k) {
     if (suspect_[k] < 0) continue;
     // Work in mass-normalised coordinates: K' = M^-1/2 K M^-1/2.
-    const Eigen::Quaterniond q(b.q[k].w, b.q[k].x, b.q[k].y, b.q[k].z);
-    const Eigen::Matrix3d R = q.toRotationMatrix();
+    const Eigen::Matrix3d R = rotation_matrix(b.q[k]);
     const Eigen::Vector3d inv_sqrt_I(1 / std::sqrt(b.inertia[k].x), 1 / std::sqrt(b.inertia[k].y),
                                      1 / std::sqrt(b.inertia[k].z));
     const Eigen::Matrix3d rot_scale = R * inv_sqrt_I.asDiagonal() * R.transpose();  // I_world^-1/2

@@ -12,8 +12,8 @@
 #include "dem/neighbor_list.hpp"
 #include "dem/walls/plane.hpp"
 
-
 #include "list_fixture.hpp"
+
 using namespace grainscale::dem;
 
 namespace {

@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "barley_box_fixture.hpp"
+#include "list_fixture.hpp"
 #include "dem/neighbor_list.hpp"
 
 using namespace grainscale::dem;
@@ -60,12 +61,6 @@ Particles bed_and_falling_pair() {
   return p;
 }
 
-void rebuild(Particles& p, NeighborList& nl, double skin) {
-  const auto order = nl.sort_by_cell(p, skin);
-  p.permute(order);
-  nl.build(p, skin, order);
-}
-
 }  // namespace
 
 TEST_CASE("Neighbour list equals the brute-force pair list", "[dem][neighbor]") {
@@ -75,7 +70,7 @@ TEST_CASE("Neighbour list equals the brute-force pair list", "[dem][neighbor]") 
   const double skin = 0.001;
   Particles p = random_particles(2000, 0.15, 3);
   NeighborList nl;
-  rebuild(p, nl, skin);
+  testing::build_list(nl, p, skin);
   CHECK(listed(p, nl) == brute_force(p, skin));
 
   // The reverse index lists every entry exactly once, under its partner.
@@ -98,7 +93,7 @@ TEST_CASE("Neighbour list equals the brute-force pair list", "[dem][neighbor]") 
   std::mt19937_64 rng(5);
   std::normal_distribution<double> jitter(0, 0.002);
   for (auto& x : p.x) x += Vec3{jitter(rng), jitter(rng), jitter(rng)};
-  rebuild(p, nl, skin);
+  testing::build_list(nl, p, skin);
   CHECK(listed(p, nl) == brute_force(p, skin));
   omp_set_num_threads(2);
 }
@@ -118,7 +113,7 @@ TEST_CASE("Neighbour list equals brute force whichever axis is thin or long", "[
   }
   const double skin = 0.001;
   NeighborList nl;
-  rebuild(p, nl, skin);
+  testing::build_list(nl, p, skin);
   INFO("extent " << extent.x << " x " << extent.y << " x " << extent.z << ", " << threads << " thread(s)");
   CHECK(nl.entries() > 1000);
   CHECK(listed(p, nl) == brute_force(p, skin));
@@ -136,7 +131,7 @@ TEST_CASE("Strays far from the bed neither change the list nor coarsen the cells
   Particles p = bed_and_falling_pair();
   p.add_sphere(5002, 0, 0.004, 1000, {1000.0, 0.05, 0.02});
   NeighborList nl;
-  rebuild(p, nl, skin);
+  testing::build_list(nl, p, skin);
   const PairSet pairs = listed(p, nl);
   CHECK(pairs == brute_force(p, skin));
   CHECK(pairs.count({5000, 5001}) == 1);
@@ -145,7 +140,7 @@ TEST_CASE("Strays far from the bed neither change the list nor coarsen the cells
   CHECK(nl.cell_size() == 2 * r_max + skin);
   // Moved a little and rebuilt (the strays are now mid-list in slot order): still exact.
   for (std::size_t i = 0; i < p.size(); ++i) p.x[i].z += 1e-4 * static_cast<double>(i % 7);
-  rebuild(p, nl, skin);
+  testing::build_list(nl, p, skin);
   CHECK(listed(p, nl) == brute_force(p, skin));
 }
 
@@ -160,7 +155,7 @@ TEST_CASE("A stray far from everything may move further than skin/2 and the list
   Particles p = bed_and_falling_pair();  // the pair touch: no slack
   p.add_sphere(5002, 0, 0.004, 1000, {0.07, 0.05, -10.0});  // alone 10 m below the bed
   NeighborList nl;
-  rebuild(p, nl, skin);
+  testing::build_list(nl, p, skin);
   const std::vector<double>& slack = nl.slack2();
   REQUIRE(slack.size() == p.size());
   auto slot = [&](std::uint64_t id) {
@@ -199,7 +194,7 @@ TEST_CASE("A stray far from everything may move further than skin/2 and the list
   // A bed without strays gets no slack at all (the usual test, bit for bit).
   Particles bed = random_particles(2000, 0.15, 5);
   NeighborList plain;
-  rebuild(bed, plain, skin);
+  testing::build_list(plain, bed, skin);
   CHECK(plain.slack2().empty());
 }
 
@@ -235,7 +230,7 @@ TEST_CASE("Contact histories follow their pair through reordering rebuilds", "[d
   const double skin = 0.001;
   Particles p = random_particles(1500, 0.12, 9);
   NeighborList nl;
-  rebuild(p, nl, skin);
+  testing::build_list(nl, p, skin);
   // Tag every history with its pair of ids.
   for (std::size_t i = 0; i < p.size(); ++i)
     for (auto k = nl.begin(i); k < nl.end(i); ++k)
@@ -245,7 +240,7 @@ TEST_CASE("Contact histories follow their pair through reordering rebuilds", "[d
   std::normal_distribution<double> jitter(0, 0.0003);
   for (auto& x : p.x) x += Vec3{jitter(rng), jitter(rng), jitter(rng)};
   const PairSet before = listed(p, nl);
-  rebuild(p, nl, skin);
+  testing::build_list(nl, p, skin);
 
   std::size_t carried = 0, fresh = 0;
   for (std::size_t i = 0; i < p.size(); ++i)

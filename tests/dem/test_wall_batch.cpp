@@ -20,8 +20,8 @@
 #include "dem/walls/box.hpp"
 
 #include "batch_test_support.hpp"
-
 #include "list_fixture.hpp"
+
 using namespace grainscale::dem;
 using grainscale::dem::testing::rolling_params;
 using grainscale::dem::testing::same_bits;
