@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Cost against particle count (issue 11), grainscale only. See bench/README.md. Usage:
+# Cost against particle count (issue 11), grainscale and LIGGGHTS. See bench/README.md. Usage:
 #   bench/run_scaling.sh
 # The box_settle problem (13.4 mm barley-like spheres, +-5 % diameter, Table 1 parameters, perspex box
 # open at the top, 200 mm deep) with the box scaled in x and y so that every size has the same number
@@ -11,13 +11,19 @@
 #                        available memory is skipped: ~MEM_PER_SPHERE bytes each, see below)
 #   THREADS=1,2          OpenMP thread counts timed for every size (one bench process per size)
 #   SETTLE=0.2           s simulated settling (untimed; kept as a checkpoint in OUT, reused next time
-#                        unless FRESH=1)
+#                        unless FRESH=1); run on SETTLE_THREADS threads (default: every core; the
+#                        settled state is the same bit for bit on any thread count)
 #   SPHERE_STEPS=1e8     timed work per size: steps = max(MIN_STEPS, SPHERE_STEPS / N)
 #   MIN_STEPS=500
 #   MEM_PER_SPHERE=6000  bytes per sphere assumed for the memory check (bench counts ~1500-2000 in its
 #                        arrays; peak RSS was 3.3 kB per sphere at N = 1e5, so 1e6 needs ~3.5 GB)
 #   IDLE_WAIT=600 IDLE_MAX=10   wait for an idle machine before each timed run (IDLE_WAIT=0: don't)
 #   BUILD_DIR=build  GRAINSCALE=path   which grainscale (built if missing)
+#   LIGGGHTS=1           also time LIGGGHTS 3.8 (Debian package, installed if missing) on the same beds
+#                        (bench/liggghts/in.box_settle with the box widened: same sphere count, time
+#                        step, fill region, settling time and timed steps; its fixed skin 0.2 r_max,
+#                        the bound of grainscale's adaptive one); 1 and 2 MPI processes as THREADS.
+#                        It settles each run itself (no checkpoint). LIGGGHTS=0: grainscale only
 #   OUT=bench/out/scaling
 # Quick check of the script: SIZES="300 3000" SETTLE=0.02 SPHERE_STEPS=1e5 MIN_STEPS=100 IDLE_WAIT=0
 set -euo pipefail
@@ -28,14 +34,17 @@ OUT="${OUT:-$HERE/out/scaling}"
 SIZES="${SIZES:-1000 10000 100000 1000000}"
 THREADS="${THREADS:-1,2}"
 SETTLE="${SETTLE:-0.2}"
+SETTLE_THREADS="${SETTLE_THREADS:-$(nproc)}"
 SPHERE_STEPS="${SPHERE_STEPS:-1e8}"
 MIN_STEPS="${MIN_STEPS:-500}"
 MEM_PER_SPHERE="${MEM_PER_SPHERE:-6000}"
 FRESH="${FRESH:-0}"
+WITH_LIGGGHTS="${LIGGGHTS:-1}"
 mkdir -p "$OUT"
 OUT="$(cd "$OUT" && pwd)"
 need_grainscale
-rm -f "$OUT"/timed_*.log* "$OUT/results.txt"
+if [[ "$WITH_LIGGGHTS" != 0 ]]; then need_liggghts; fi
+rm -f "$OUT"/timed_*.log* "$OUT"/liggghts_*.log* "$OUT/results.txt"
 
 mem_avail_mib() { awk '/^MemAvailable:/{printf "%d\n", $2 / 1024}' /proc/meminfo; }
 
@@ -74,7 +83,7 @@ PY
     say "N = $n: settled state from $ckpt (FRESH=1 to settle again)"
   else
     say "N = $n: inserting and settling $SETTLE s (untimed) -> $ckpt"
-    run_logged "$OUT/settle_${n}.log" "$GS" bench "$yaml" --steps 1 --threads 1 --settled "$ckpt" \
+    run_logged "$OUT/settle_${n}.log" "$GS" bench "$yaml" --steps 1 --threads "$SETTLE_THREADS" --settled "$ckpt" \
       || die "settling N = $n failed; see $OUT/settle_${n}.log"
   fi
   steps="$(python3 -c "print(max(int($MIN_STEPS), int(float($SPHERE_STEPS) / $n)))")"
@@ -85,43 +94,112 @@ PY
     || die "bench N = $n failed; see $log"
   grep -E '^(problem|memory|threads)' "$log" >&2 || true
   ran+=("$n")
+  if [[ "$WITH_LIGGGHTS" != 0 ]]; then
+    # the same problem: grainscale's time step, 0.2 r_max skin (r_max = 1.05 x 6.7 mm), the box and fill
+    dt="$(sed -n 's/^\[bench\] [0-9]* spheres; time step \([0-9.eE+-]*\) s.*/\1/p' "$log" | head -1)"
+    [[ -n "$dt" ]] || die "no time step in $log"
+    side="$(python3 -c "import math; print(f'{math.sqrt($n * 0.8 * 0.2 / 2011):.6f}')")"
+    for np in ${THREADS//,/ }; do
+      launcher=()
+      if (( np > 1 )); then
+        if (( ${#MPIRUN[@]} == 0 )); then say "skipping LIGGGHTS with $np processes (no MPI)"; continue; fi
+        launcher=("${MPIRUN[@]}" -np "$np")
+      fi
+      wait_idle
+      llog="$OUT/liggghts_${n}_np${np}.log"
+      say "N = $n: LIGGGHTS, $np process(es): settle $SETTLE s + $steps timed steps -> $llog"
+      (cd "$OUT" && run_logged "$llog" "${launcher[@]}" "$LIGGGHTS" -in "$HERE/liggghts/in.box_settle" -log none \
+          -echo none -var n "$n" -var dt "$dt" -var skin 0.001407 -var tsettle "$SETTLE" -var nsteps "$steps" \
+          -var px "$np" -var lx "$side" -var ly "$side" -var hfill 0.065) || die "LIGGGHTS failed; see $llog"
+      grep -E '^Loop time' "$llog" | tail -1 >&2 || die "no 'Loop time' line in $llog"
+    done
+  fi
 done
 (( ${#ran[@]} > 0 )) || die "no size was run"
 
 python3 - "$OUT" "${ran[@]}" <<'PY' | tee "$OUT/results.txt"
 import re, sys
 out, sizes = sys.argv[1], [int(s) for s in sys.argv[2:]]
+
+def load(log):
+    try:
+        return dict(zip(*[iter(open(log + ".load").read().split())] * 2))
+    except OSError:
+        return {}
+
+def verdict(r, ns):  # r: rows of one thread count, ns(row) = ns per sphere-step
+    small, large = r[0], r[-1]
+    ratio = ns(large) / ns(small)
+    return (f"ns per sphere-step, largest / smallest N ({large[0]} / {small[0]}): {ratio:.2f} "
+            f"-> {'linear (cost per sphere-step does not grow)' if ratio <= 1.25 else 'NOT linear: cost per sphere-step grows with N'}"
+            " (threshold 1.25; a ratio below 1 means the small problems carry per-step overhead)")
+
 rows = {}
 for n in sizes:
     t = open(f"{out}/timed_{n}.log").read()
     p = re.search(r"^problem: .*?, (\d+) spheres, dt = (\S+) s, settled for (\S+) s, (\d+) contacts, (\d+) wall contacts", t, re.M)
     mem = re.search(r"^memory: ([0-9.]+) bytes per sphere", t, re.M)
-    try:
-        ld = dict(zip(*[iter(open(f"{out}/timed_{n}.log.load").read().split())] * 2))
-    except OSError:
-        ld = {}
+    ld = load(f"{out}/timed_{n}.log")
     for m in re.finditer(r"^threads (\d+): (\d+) steps in ([0-9.]+) s = ([0-9.]+) M sphere-steps/s.*?(\d+) neighbour-list builds", t, re.M):
-        rows.setdefault(int(m.group(1)), []).append(
-            (n, int(p.group(1)) if p else n, int(m.group(2)), float(m.group(3)), float(m.group(4)) * 1e6,
-             int(p.group(4)) / int(p.group(1)) if p else float("nan"), float(mem.group(1)) if mem else float("nan"),
-             int(ld.get("maxrss_kb", 0)) * 1024, ld.get("other_cores", "?"), int(m.group(2)) / max(1, int(m.group(5)))))
-print("cost against particle count (grainscale; box_settle bed, box scaled in x and y at constant depth)")
+        th = int(m.group(1))
+        end = re.search(r"^threads %d: CPU .*?kinetic energy (\S+) J" % th, t, re.M)
+        lst = re.search(r"^threads %d: neighbour list at the end: skin (\S+) m, ([0-9.]+) entries per sphere" % th, t, re.M)
+        ns = int(p.group(1)) if p else n
+        rows.setdefault(th, []).append(dict(
+            n=ns, steps=int(m.group(2)), s=float(m.group(3)), rate=float(m.group(4)) * 1e6,
+            cps=int(p.group(4)) / ns if p else float("nan"), b=float(mem.group(1)) if mem else float("nan"),
+            rss=int(ld.get("maxrss_kb", 0)) * 1024, other=ld.get("other_cores", "?"),
+            per_build=int(m.group(2)) / max(1, int(m.group(5))),
+            ke=float(end.group(1)) / ns if end else float("nan"),
+            entries=float(lst.group(2)) if lst else float("nan")))
+print("cost against particle count (box_settle bed, box scaled in x and y at constant depth)")
+print("\ngrainscale")
 for th in sorted(rows):
     print(f"\n{th} thread(s):")
-    print(f"{'N':>9} {'steps':>6} {'s':>8} {'M sph-st/s':>10} {'ns/sph-st':>9} {'contacts/sph':>12} {'steps/build':>11} {'B/sphere':>8} {'peak RSS MiB':>12} {'other load':>10}")
-    for n, ns, steps, s, rate, cps, b, rss, other, per_build in rows[th]:
-        print(f"{ns:>9} {steps:>6} {s:8.2f} {rate / 1e6:10.3f} {1e9 / rate:9.1f} {cps:12.2f} {per_build:11.0f} {b:8.0f} {rss / 2**20:12.0f} {other:>10}")
-    r = rows[th]
-    if len(r) > 1:
-        small, large = r[0], r[-1]
-        ratio = (1 / large[4]) / (1 / small[4])
-        print(f"ns per sphere-step, largest / smallest N ({large[1]} / {small[1]}): {ratio:.2f} "
-              f"-> {'linear (cost per sphere-step does not grow)' if ratio <= 1.25 else 'NOT linear: cost per sphere-step grows with N'}"
-              " (threshold 1.25; a ratio below 1 means the small problems carry per-step overhead)")
+    print(f"{'N':>9} {'steps':>6} {'s':>8} {'M sph-st/s':>10} {'ns/sph-st':>9} {'contacts/sph':>12} {'entries/sph':>11} "
+          f"{'steps/build':>11} {'KE/sph J':>9} {'B/sphere':>8} {'peak RSS MiB':>12} {'other load':>10}")
+    for r in rows[th]:
+        print(f"{r['n']:>9} {r['steps']:>6} {r['s']:8.2f} {r['rate'] / 1e6:10.3f} {1e9 / r['rate']:9.1f} {r['cps']:12.2f} "
+              f"{r['entries']:11.2f} {r['per_build']:11.0f} {r['ke']:9.2e} {r['b']:8.0f} {r['rss'] / 2**20:12.0f} {r['other']:>10}")
+    if len(rows[th]) > 1:
+        print(verdict([(r["n"], r["rate"]) for r in rows[th]], lambda x: 1 / x[1]))
+
+lig = {}
+for n in sizes:
+    for np in sorted(rows):
+        log = f"{out}/liggghts_{n}_np{np}.log"
+        try:
+            t = open(log).read()
+        except OSError:
+            continue
+        loops = re.findall(r"^Loop time of ([0-9.eE+-]+) on (\d+) procs for (\d+) steps with (\d+) atoms", t, re.M)
+        timed = re.search(r"^TIMED atoms (\d+) ekin_J (\S+) zmean_m (\S+) contacts (\S+)", t, re.M)
+        if len(loops) < 2:
+            continue
+        secs, _, ns, na = loops[-1]  # the last run is the timed one
+        lig.setdefault(np, []).append(dict(n=int(na), steps=int(ns), s=float(secs), rate=int(ns) * int(na) / float(secs),
+                                           cps=float(timed.group(4)) / int(na) if timed else float("nan"),
+                                           ke=float(timed.group(2)) / int(na) if timed else float("nan"),
+                                           rss=int(load(log).get("maxrss_kb", 0)) * 1024, other=load(log).get("other_cores", "?")))
+if lig:
+    print("\nLIGGGHTS 3.8 (same beds, fixed skin 0.2 r_max; settled in the same run)")
+    for np in sorted(lig):
+        print(f"\n{np} process(es):")
+        print(f"{'N':>9} {'steps':>6} {'s':>8} {'M sph-st/s':>10} {'ns/sph-st':>9} {'contacts/sph':>12} {'KE/sph J':>9} "
+              f"{'peak RSS MiB':>12} {'other load':>10} {'grainscale / LIGGGHTS':>22}")
+        gs = {r["n"]: r for r in rows.get(np, [])}
+        for r in lig[np]:
+            g = gs.get(r["n"])
+            print(f"{r['n']:>9} {r['steps']:>6} {r['s']:8.2f} {r['rate'] / 1e6:10.3f} {1e9 / r['rate']:9.1f} {r['cps']:12.2f} "
+                  f"{r['ke']:9.2e} {r['rss'] / 2**20:12.0f} {r['other']:>10} {(g['rate'] / r['rate'] if g else float('nan')):22.2f}")
+        if len(lig[np]) > 1:
+            print(verdict([(r["n"], r["rate"]) for r in lig[np]], lambda x: 1 / x[1]))
+
 print("\n(contacts/sph: sphere-sphere contacts per sphere in the settled bed; the beds are comparable when it is")
-print(" about the same for every N. steps/build: timed steps per neighbour-list build; the list is rebuilt for all")
-print(" when any sphere has moved half the skin, so a bed with rattlers or a settling surface rebuilds more often the")
-print(" larger it is: compare sizes at similar steps/build, or settle longer (SETTLE). other load: cores used by other")
-print(" processes meanwhile, > 0.2 disturbs the figure)")
+print(" about the same for every N. entries/sph: neighbour-list entries per sphere at the end (grainscale's adaptive")
+print(" skin follows the fastest sphere). steps/build: timed steps per neighbour-list build. KE/sph: kinetic energy")
+print(" per sphere at the end of the timed steps: a bed still settling (KE/sph well above the others) rebuilds its list")
+print(" more often and costs more per step; settle longer (SETTLE). other load: cores used by other processes")
+print(" meanwhile, > 0.2 disturbs the figure)")
 PY
 say "logs and results.txt in $OUT"
