@@ -74,6 +74,7 @@ void ForceField::setup(const MaterialTable& mt, const std::vector<Wall>& walls, 
   }
   wall_material_.clear();
   for (const Wall& w : walls) wall_material_.push_back(w.material());
+  list_generation_ = ~std::uint64_t{0};  // the contact flags are made again under the new models
 }
 
 ForceDiagnostics ForceField::compute(Particles& p, NeighborList& nl, const std::vector<Wall>& walls, double dt) {
@@ -180,7 +181,8 @@ void ForceField::flush_pairs(PairBatch<Rolling>& b, double dt, Particles& p, Nei
     open.force += Vec3{b.fx[c], b.fy[c], b.fz[c]};
     open.torque += Vec3{b.tix[c], b.tiy[c], b.tiz[c]};
     partner_share_[b.rev[c]] = {{b.fx[c], b.fy[c], b.fz[c]}, {b.tjx[c], b.tjy[c], b.tjz[c]}};
-    nl.history(b.entry[c]) = {{b.sx[c], b.sy[c], b.sz[c]}, {b.rx[c], b.ry[c], b.rz[c]}};
+    nl.shear(b.entry[c]) = {b.sx[c], b.sy[c], b.sz[c]};
+    if constexpr (Rolling::kSpring) nl.rolling(b.entry[c]) = {b.rx[c], b.ry[c], b.rz[c]};
     worst_ratio = std::max(worst_ratio, b.overlap_ratio[c]);
     stiff_pair = std::max(stiff_pair, b.stiffness_per_mass[c]);
   }
@@ -206,8 +208,11 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
     touching_.resize(entries);
     partner_touching_.resize(entries);
     for (std::uint32_t k = 0; k < entries; ++k) {
-      const ContactHistory& h = nl.history(k);
-      touching_[k] = norm2(h.shear) != 0 || norm2(h.rolling) != 0;
+      Vec3& rolling = nl.rolling(k);
+      // A rolling spring left by a model that has one (a checkpoint of an EPSD run restarted under
+      // another model) is dropped: this model neither reads nor writes it.
+      if (!Rolling::kSpring && norm2(rolling) != 0) rolling = {};
+      touching_[k] = norm2(nl.shear(k)) != 0 || norm2(rolling) != 0;
       partner_touching_[nl.rev_position(k)] = touching_[k];
     }
     list_generation_ = nl.generation();
@@ -236,7 +241,7 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
   const std::int32_t* const material = p.material.data();
   const std::uint32_t *const start = nl.starts().data(), *const partner = nl.partners().data();
   const std::uint32_t *const owner = nl.owners().data(), *const rev_position = nl.rev_positions().data();
-  ContactHistory* const history = nl.history_data();
+  Vec3 *const shear = nl.shear_data(), *const rolling = nl.rolling_data();
   std::uint8_t *const touching = touching_.data(), *const partner_touching = partner_touching_.data();
   Vec3 *const force = p.force.data(), *const torque = p.torque.data();
   const std::size_t blocks = (n + kPassBlock - 1) / kPassBlock;
@@ -273,7 +278,8 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
         const double dist2 = norm2(d);
         if (dist2 >= rsum * rsum) {
           if (touching[k]) {  // contact broken: history starts afresh next time
-            history[k] = {};
+            shear[k] = {};
+            if constexpr (Rolling::kSpring) rolling[k] = {};
             touching[k] = 0;
             partner_touching[rev_position[k]] = 0;
           }
@@ -293,9 +299,12 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
         const int pair = row + material[j];
         batch.contact[b] = m.contact[pair];
         batch.rolling[b] = m.rolling[pair];
-        const ContactHistory& h = history[k];
-        batch.sx[b] = h.shear.x, batch.sy[b] = h.shear.y, batch.sz[b] = h.shear.z;
-        batch.rx[b] = h.rolling.x, batch.ry[b] = h.rolling.y, batch.rz[b] = h.rolling.z;
+        const Vec3 s = shear[k];
+        batch.sx[b] = s.x, batch.sy[b] = s.y, batch.sz[b] = s.z;
+        if constexpr (Rolling::kSpring) {
+          const Vec3 rs = rolling[k];
+          batch.rx[b] = rs.x, batch.ry[b] = rs.y, batch.rz[b] = rs.z;
+        }
         batch.owner[b] = i, batch.entry[b] = k, batch.rev[b] = r;
         if (++b == PairBatch<Rolling>::kCapacity) {
           batch.size = b;

@@ -119,7 +119,8 @@ void NeighborList::build(Particles& p, double skin, const std::vector<std::uint3
   skin_ = skin;
   start_.swap(old_start_);
   partner_.swap(old_partner_);
-  history_.swap(old_history_);
+  shear_.swap(old_shear_);
+  rolling_.swap(old_rolling_);
   // Particles added since the last build sit at slots >= n_old before sorting: they start without
   // history; every pair of particles that were already there keeps its history.
   const std::size_t n_old = old_start_.empty() ? 0 : old_start_.size() - 1;
@@ -170,18 +171,19 @@ void NeighborList::build(Particles& p, double skin, const std::vector<std::uint3
       start_[0] = 0;
       for (std::size_t i = 0; i < n; ++i) start_[i + 1] = start_[i] + count_[i];
       partner_.resize(start_[n]);
-      history_.resize(start_[n]);
+      shear_.resize(start_[n]);
+      rolling_.resize(start_[n]);
     }
     std::copy(buffer.begin(), buffer.end(), partner_.begin() + start_[first]);
     for (std::size_t i = first; i < last; ++i) {
       const std::uint32_t oi = carry ? new_to_old[i] : 0;
       for (std::uint32_t k = start_[i]; k < start_[i + 1]; ++k) {
-        history_[k] = {};
+        shear_[k] = {}, rolling_[k] = {};
         if (carry && oi < n_old) {
           const std::uint32_t oj = new_to_old[partner_[k]];
           for (std::uint32_t m = old_start_[oi]; m < old_start_[oi + 1]; ++m) {
             if (old_partner_[m] == oj) {
-              history_[k] = old_history_[m];
+              shear_[k] = old_shear_[m], rolling_[k] = old_rolling_[m];
               break;
             }
           }
@@ -259,7 +261,7 @@ void NeighborList::index_partners(std::size_t n) {
 }
 
 void NeighborList::restore(const Particles& p, double skin, std::vector<std::uint32_t> start,
-                           std::vector<std::uint32_t> partner, std::vector<ContactHistory> history, std::size_t builds) {
+                           std::vector<std::uint32_t> partner, const std::vector<ContactHistory>& history, std::size_t builds) {
   // The invariants build() guarantees and the force loop relies on (no bounds checks there). The list
   // may cover fewer particles than `p` holds: those added since the build, at the end, have no entries
   // yet (stale() then asks for a rebuild, which carries the histories over).
@@ -287,7 +289,9 @@ void NeighborList::restore(const Particles& p, double skin, std::vector<std::uin
   if (!(skin >= 0) || !std::isfinite(skin)) bad("skin must be finite and non-negative");
   start_ = std::move(start);
   partner_ = std::move(partner);
-  history_ = std::move(history);
+  shear_.resize(history.size());
+  rolling_.resize(history.size());
+  for (std::size_t k = 0; k < history.size(); ++k) shear_[k] = history[k].shear, rolling_[k] = history[k].rolling;
   skin_ = skin;
   builds_ = builds;
   ++generation_;
@@ -303,7 +307,14 @@ std::size_t NeighborList::bytes() const {
                       rev_start_.capacity() + rev_entry_.capacity() + rev_position_.capacity() + rev_fill_.capacity() +
                       owner_.capacity() + rev_owner_.capacity();
   for (const auto& t : thread_partners_) words += t.capacity();
-  return words * 4 + (history_.capacity() + old_history_.capacity()) * sizeof(ContactHistory);
+  return words * 4 +
+         (shear_.capacity() + rolling_.capacity() + old_shear_.capacity() + old_rolling_.capacity()) * sizeof(Vec3);
+}
+
+std::vector<ContactHistory> NeighborList::histories() const {
+  std::vector<ContactHistory> h(shear_.size());
+  for (std::size_t k = 0; k < h.size(); ++k) h[k] = {shear_[k], rolling_[k]};
+  return h;
 }
 
 }  // namespace grainscale::dem

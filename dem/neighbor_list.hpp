@@ -17,6 +17,9 @@
 //   everything may move further (its slack, assign_stray_slack), so one falling away from an open
 //   container does not force a build every step.
 // * Each entry carries the contact history; a rebuild carries histories over to the new entries.
+//   The history is kept as two arrays, the tangential spring and the rolling spring, because only
+//   rolling models with a spring (EPSD) use the second: the force loop of the others (the report's
+//   constant torque) then streams half the history bytes per entry (docs/performance.md).
 // * A reverse CSR lists, for every particle, the entries where it is the partner, so forces can be
 //   gathered per particle in a fixed order: deterministic for any thread count, no atomics.
 #include <algorithm>
@@ -64,8 +67,12 @@ class NeighborList {
   std::uint32_t owner(std::uint32_t k) const { return owner_[k]; }
   /// The particle whose reverse range holds position r: rev_begin(i) <= r < rev_end(i) for i = rev_owner(r).
   std::uint32_t rev_owner(std::uint32_t r) const { return rev_owner_[r]; }
-  ContactHistory& history(std::uint32_t k) { return history_[k]; }
-  const ContactHistory& history(std::uint32_t k) const { return history_[k]; }
+  /// Entry k's tangential (Mindlin) spring and rolling (EPSD) spring.
+  Vec3& shear(std::uint32_t k) { return shear_[k]; }
+  const Vec3& shear(std::uint32_t k) const { return shear_[k]; }
+  Vec3& rolling(std::uint32_t k) { return rolling_[k]; }
+  const Vec3& rolling(std::uint32_t k) const { return rolling_[k]; }
+  ContactHistory history(std::uint32_t k) const { return {shear_[k], rolling_[k]}; }
   std::size_t entries() const { return partner_.size(); }
   std::size_t builds() const { return builds_; }
   /// Changes whenever the entries change (build or restore); never saved. Lets per-entry data kept
@@ -79,7 +86,7 @@ class NeighborList {
   /// entry's contact history: what a checkpoint stores (dem/checkpoint.hpp).
   const std::vector<std::uint32_t>& starts() const { return start_; }
   const std::vector<std::uint32_t>& partners() const { return partner_; }
-  const std::vector<ContactHistory>& histories() const { return history_; }
+  std::vector<ContactHistory> histories() const;  // a copy, entry by entry
   /// The reverse index and the entries' owners as arrays (the force loop reads them through plain
   /// pointers).
   const std::vector<std::uint32_t>& rev_starts() const { return rev_start_; }
@@ -87,13 +94,14 @@ class NeighborList {
   const std::vector<std::uint32_t>& owners() const { return owner_; }
   /// Per reverse position r: the particle whose reverse range holds it (the partner of rev_entry(r)).
   const std::vector<std::uint32_t>& rev_owners() const { return rev_owner_; }
-  ContactHistory* history_data() { return history_.data(); }
+  Vec3* shear_data() { return shear_.data(); }
+  Vec3* rolling_data() { return rolling_.data(); }
   /// Reinstate a list saved from starts(), partners() and histories() for particles `p` in the slot
   /// order they had then (plus any added since, at the end); the reverse index is rebuilt from it. The next build() carries the
   /// histories over exactly as it would have from the original list. Throws std::invalid_argument
   /// (nothing changed) if the arrays are not a valid half list for `p`.
   void restore(const Particles& p, double skin, std::vector<std::uint32_t> start, std::vector<std::uint32_t> partner,
-               std::vector<ContactHistory> history, std::size_t builds);
+               const std::vector<ContactHistory>& history, std::size_t builds);
   /// Bytes held by the list (for memory reports).
   std::size_t bytes() const;
 
@@ -141,9 +149,9 @@ class NeighborList {
   std::vector<std::vector<std::uint32_t>> thread_partners_;  // scratch of build: partners per thread
 
   std::vector<std::uint32_t> start_, partner_, count_;
-  std::vector<ContactHistory> history_;
+  std::vector<Vec3> shear_, rolling_;  // per entry: see shear(), rolling()
   std::vector<std::uint32_t> old_start_, old_partner_;
-  std::vector<ContactHistory> old_history_;
+  std::vector<Vec3> old_shear_, old_rolling_;
   std::vector<std::uint32_t> rev_start_, rev_entry_, rev_position_, rev_fill_;
   std::vector<std::uint32_t> owner_;      // per entry: its row (the force loop walks entries, not rows)
   std::vector<std::uint32_t> rev_owner_;  // per reverse position: its particle

@@ -35,7 +35,8 @@ struct PairBatch {
   alignas(64) double mi[kCapacity], mj[kCapacity], ii[kCapacity], ij[kCapacity];
   HertzMindlin::Params contact[kCapacity];
   typename Rolling::Params rolling[kCapacity];
-  // In and out: the contact's history (ContactHistory, one array per component).
+  // In and out: the contact's history (ContactHistory, one array per component; the rolling spring
+  // r* only for models with one, Rolling::kSpring: for the others it is neither filled nor read).
   alignas(64) double sx[kCapacity], sy[kCapacity], sz[kCapacity], rx[kCapacity], ry[kCapacity], rz[kCapacity];
   // Where it goes: owner slot, neighbour entry, the entry's place in the partner's reverse range.
   std::uint32_t owner[kCapacity], entry[kCapacity], rev[kCapacity];
@@ -70,12 +71,13 @@ struct PairBatch {
       c.inertia_i = ii[b];
       c.inertia_j = ij[b];
       c.dt = dt;
-      ContactHistory h{{sx[b], sy[b], sz[b]}, {rx[b], ry[b], rz[b]}};
+      ContactHistory h{{sx[b], sy[b], sz[b]}, {}};
+      if constexpr (Rolling::kSpring) h.rolling = {rx[b], ry[b], rz[b]};
       const ContactForce f = HertzMindlin::evaluate(contact[b], c, h);
       Vec3 ti, tj;
       Rolling::evaluate(rolling[b], c, f, h, ti, tj);
       sx[b] = h.shear.x, sy[b] = h.shear.y, sz[b] = h.shear.z;
-      rx[b] = h.rolling.x, ry[b] = h.rolling.y, rz[b] = h.rolling.z;
+      if constexpr (Rolling::kSpring) rx[b] = h.rolling.x, ry[b] = h.rolling.y, rz[b] = h.rolling.z;
       const Vec3 nxft = cross(c.n, f.tangential);
       const Vec3 t_i = ti - c.lever_i * nxft, t_j = tj - c.lever_j * nxft;
       fx[b] = f.force.x, fy[b] = f.force.y, fz[b] = f.force.z;

@@ -20,6 +20,8 @@
 namespace grainscale::dem {
 
 struct ConstantTorqueRolling {
+  /// No rolling spring: ContactHistory::rolling is neither read nor written (stays zero).
+  static constexpr bool kSpring = false;
   struct Params {
     double mu_r = 0;
   };

@@ -19,6 +19,8 @@
 namespace grainscale::dem {
 
 struct EpsdRolling {
+  /// The spring torque M_k lives in ContactHistory::rolling.
+  static constexpr bool kSpring = true;
   struct Params {
     double mu_r = 0;
     double stiffness_factor = 2.25;  // k_stiff in eq. 15

@@ -5,6 +5,8 @@
 namespace grainscale::dem {
 
 struct NoRolling {
+  /// No rolling spring: ContactHistory::rolling is neither read nor written (stays zero).
+  static constexpr bool kSpring = false;
   struct Params {};
   static Params make(const PairProperties&) { return {}; }
   static void evaluate(const Params&, const ContactKinematics&, const ContactForce&, ContactHistory&, Vec3& torque_i,

@@ -37,7 +37,7 @@ struct TwoSpheres {
   void rebuild() {
     grainscale::dem::testing::build_list(nl, p, skin);
   }
-  const ContactHistory& history() const {
+  ContactHistory history() const {
     REQUIRE(nl.entries() == 1);
     return nl.history(0);
   }
@@ -67,9 +67,9 @@ TEST_CASE("A pair that parts exerts no force and its tangential history starts a
   CHECK(s.history().rolling == Vec3{});
 
   // A rebuilt list that carries a (stale) history to a pair already apart: cleared at the next step.
-  s.nl.history(0).shear = {1e-5, 0, 0};
+  s.nl.shear(0) = {1e-5, 0, 0};
   s.rebuild();
-  s.nl.history(0).shear = {0, 1e-5, 0};
+  s.nl.shear(0) = {0, 1e-5, 0};
   s.ff.compute(s.p, s.nl, s.walls, s.dt);
   CHECK(s.history().shear == Vec3{});
   for (std::size_t i = 0; i < s.p.size(); ++i) CHECK(s.p.force[i] == Vec3{});
@@ -80,6 +80,41 @@ TEST_CASE("A pair that parts exerts no force and its tangential history starts a
   }
   s.ff.compute(s.p, s.nl, s.walls, s.dt);
   CHECK(norm(s.history().shear) == Approx(0.05 * s.dt).epsilon(1e-6));
+}
+
+TEST_CASE("Only a rolling model with a spring keeps one in the contact history", "[dem][contact][rolling]") {
+  // The history holds the EPSD spring torque M_k (Ai et al. 2011, eq. 13) beside the Mindlin
+  // spring; the constant-torque and no-rolling models have no spring, never read it and leave it
+  // zero. A spring left by an EPSD run (its checkpoint restarted under constant torque) is dropped.
+  TwoSpheres s;
+  for (std::size_t i = 0; i < s.p.size(); ++i) {
+    if (s.p.id[i] == 1) s.p.omega[i] = {0, 0, 20};  // rolling about z on sphere 0 (contact normal x)
+  }
+  RollingSettings epsd;
+  epsd.model = RollingModel::epsd;
+  s.ff.setup(s.materials, s.walls, epsd);
+  s.ff.compute(s.p, s.nl, s.walls, s.dt);
+  REQUIRE(norm2(s.history().rolling) > 0);
+  const Vec3 shear = s.history().shear;
+
+  // The same contact and Mindlin spring, once with the EPSD spring left over and once without.
+  TwoSpheres fresh;
+  for (std::size_t i = 0; i < fresh.p.size(); ++i) fresh.p.omega[i] = s.p.omega[i];
+  fresh.ff.compute(fresh.p, fresh.nl, fresh.walls, fresh.dt);  // (flags the entry as touching)
+  fresh.nl.shear(0) = shear;
+  fresh.ff.compute(fresh.p, fresh.nl, fresh.walls, fresh.dt);
+  s.nl.shear(0) = shear;
+  s.ff.setup(s.materials, s.walls, RollingSettings{});  // constant torque
+  s.ff.compute(s.p, s.nl, s.walls, s.dt);
+  CHECK(s.history().rolling == Vec3{});
+  CHECK(fresh.history().rolling == Vec3{});
+  CHECK(norm2(s.history().shear) > 0);
+  CHECK(s.history().shear == fresh.history().shear);
+  for (std::size_t i = 0; i < s.p.size(); ++i) {
+    CHECK(s.p.force[i] == fresh.p.force[i]);
+    CHECK(s.p.torque[i] == fresh.p.torque[i]);
+    CHECK(norm2(s.p.torque[i]) > 0);
+  }
 }
 
 TEST_CASE("A static wall is asked about the spheres within reach of it at the list build, and again after it is moved",

@@ -234,7 +234,7 @@ TEST_CASE("Contact histories follow their pair through reordering rebuilds", "[d
   // Tag every history with its pair of ids.
   for (std::size_t i = 0; i < p.size(); ++i)
     for (auto k = nl.begin(i); k < nl.end(i); ++k)
-      nl.history(k).shear = {static_cast<double>(p.id[i]), static_cast<double>(p.id[nl.partner(k)]), 1.0};
+      nl.shear(k) = {static_cast<double>(p.id[i]), static_cast<double>(p.id[nl.partner(k)]), 1.0};
 
   std::mt19937_64 rng(1);
   std::normal_distribution<double> jitter(0, 0.0003);

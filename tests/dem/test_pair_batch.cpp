@@ -143,7 +143,7 @@ TEST_CASE("A sphere with more contacts than a batch holds gets the one-at-a-time
   NeighborList nl;
   grainscale::dem::testing::build_list(nl, p, skin);
   for (std::uint32_t k = 0; k < nl.entries(); ++k) {  // loaded springs: some contacts slide
-    nl.history(k).shear = 1e-6 * Vec3{u(rng), u(rng), u(rng)};
+    nl.shear(k) = 1e-6 * Vec3{u(rng), u(rng), u(rng)};
   }
   const NeighborList before = nl;
   std::size_t most = 0;
