@@ -463,7 +463,7 @@ void write_state(ImageWriter& w, const Simulation& sim) {
   std::vector<ContactHistory> history;
   for (std::size_t i = 0; i < count.size(); ++i) {
     for (int s = 0; s < count[i]; ++s) {
-      const WallSlot& ws = ff.wall_slots()[i * ForceField::kWallSlots + s];
+      const WallSlot& ws = ff.wall_slot(i, s);
       wall.push_back(ws.wall);
       feature.push_back(ws.feature);
       history.push_back(ws.history);

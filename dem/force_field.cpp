@@ -14,7 +14,6 @@ namespace grainscale::dem {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr std::size_t kPrefetchAhead = 16;  // spheres
 // Pass 1 fetches the partner of the entry kPrefetchEntries ahead (its position, radius, velocities,
 // and the partner share it will write) in beds too large for the caches: there its neighbours in
 // the next rows of cells stream from memory and the hardware prefetchers, with a dozen arrays to
@@ -42,13 +41,14 @@ ContactModels<Rolling> fill_models(const MaterialTable& mt, MakeRolling make_rol
 /// The history a new contact on `feature` of wall `wall` starts with: that of a contact this particle
 /// had last step on an adjacent feature of the same wall that is no longer touched (a sphere rolling
 /// across a mesh edge keeps its tangential spring: no force jump), else none.
-ContactHistory inherited_history(const WallGeometry& g, const WallSlot* old, int previous, const WallHit* now, int found,
-                                 std::int32_t wall, std::int32_t feature) {
+ContactHistory inherited_history(const WallGeometry& g, const WallSlot* old, std::size_t stride, int previous,
+                                 const WallHit* now, int found, std::int32_t wall, std::int32_t feature) {
   for (int o = 0; o < previous; ++o) {
-    if (old[o].wall != wall || !g.continues(old[o].feature, feature)) continue;
+    const WallSlot& s = old[o * stride];
+    if (s.wall != wall || !g.continues(s.feature, feature)) continue;
     bool still_touched = false;
-    for (int q = 0; q < found; ++q) still_touched |= now[q].feature == old[o].feature;
-    if (!still_touched) return old[o].history;
+    for (int q = 0; q < found; ++q) still_touched |= now[q].feature == s.feature;
+    if (!still_touched) return s.history;
   }
   return {};
 }
@@ -89,8 +89,9 @@ template <class Rolling>
                                                      WallBatch<Rolling>& batch, WallStats& ws, std::int64_t& bad) {
   const int previous = count_scratch_[i];
   const std::uint32_t near = near_walls_[i];
-  WallSlot* slots = &wall_slots_[i * kWallSlots];
-  const WallSlot* old = &wall_scratch_[i * kWallSlots];
+  const std::size_t stride = stride_;
+  WallSlot* slots = &wall_slots_[i];  // slot s at slots[s * stride]
+  const WallSlot* old = &wall_scratch_[i];
   int used = 0;
   const Vec3 xi = p.x[i], vi = p.v[i], wi = p.omega[i];
   const double ri = p.radius[i], mass_i = p.mass[i], inertia_i = p.inertia[i];
@@ -112,20 +113,20 @@ template <class Rolling>
       // against fields just stored stalled too: a third of pass 2 on that bed).
       const WallContact wc = walls[w].contact(hits[q], xi, ri);
       const std::int32_t wall = static_cast<std::int32_t>(w);
-      WallSlot& s = slots[used++];
+      WallSlot& s = slots[used++ * stride];
       s.wall = wall;
       s.feature = wc.feature;
       int match = -1;
       for (int o = 0; o < previous; ++o) {
-        if (old[o].wall == wall && old[o].feature == wc.feature) match = o;
+        if (old[o * stride].wall == wall && old[o * stride].feature == wc.feature) match = o;
       }
       // The history goes into the batch from where it is now, not through the slot (flush_walls
       // writes the slot): read back in pieces right after a whole copy, it stalled on store
       // forwarding.
       const ContactHistory h =
-          match >= 0 ? old[match].history
-                     : (previous > 0 ? inherited_history(walls[w].geometry(), old, previous, hits.data(), found, wall,
-                                                         wc.feature)
+          match >= 0 ? old[match * stride].history
+                     : (previous > 0 ? inherited_history(walls[w].geometry(), old, stride, previous, hits.data(),
+                                                         found, wall, wc.feature)
                                      : ContactHistory{});
       const int b = batch.size++;
       const double lever = ri - wc.overlap;  // as WallBatch::kinematics has it
@@ -197,12 +198,10 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
   partner_share_.resize(entries);
   // Wall contacts are double-buffered: last step's are read from the scratch buffer while this
   // step's are written (no copy of a sphere's old slots, which perf showed stalling on the stores
-  // it had just made). Sized before the swap (last step's slots for spheres added since) and after
-  // (this step's).
+  // it had just made). Both sized for spheres added since.
   resize(n);
   wall_slots_.swap(wall_scratch_);
   wall_count_.swap(count_scratch_);
-  resize(n);
   if (list_generation_ != nl.generation() || touching_.size() != entries) {
     // A new list: flag every entry whose carried-over history is non-zero (then cleared if apart).
     touching_.resize(entries);
@@ -350,15 +349,6 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
         torque[i] += share[r].torque;
       }
       for (std::size_t i = lo; i < hi; ++i) {
-        // A sphere's wall slots are a cache line or more apart from the next one's, and only spheres at
-        // a wall use them, so no hardware prefetcher follows: fetch them a few spheres ahead.
-        if (i + kPrefetchAhead < n && count_scratch_[i + kPrefetchAhead] > 0) {
-          // (A slot is 56 bytes: its first one may straddle two lines.)
-          const char* old_slots = reinterpret_cast<const char*>(&wall_scratch_[(i + kPrefetchAhead) * kWallSlots]);
-          const char* new_slots = reinterpret_cast<const char*>(&wall_slots_[(i + kPrefetchAhead) * kWallSlots]);
-          __builtin_prefetch(old_slots), __builtin_prefetch(old_slots + sizeof(WallSlot) - 1);
-          __builtin_prefetch(new_slots, 1), __builtin_prefetch(new_slots + sizeof(WallSlot) - 1, 1);
-        }
         const int previous = count_scratch_[i];
         const std::uint32_t near = near_walls_[i];
         // Most of a bed has no wall within reach and had no wall contact: skip the lot.
@@ -465,12 +455,30 @@ bool ForceField::walls_where_found(const std::vector<Wall>& walls) const {
   return true;
 }
 
+void ForceField::resize(std::size_t n) {
+  if (n != stride_) {
+    // A new stride: both buffers laid out again (the slots in use; particles beyond n dropped).
+    auto relayout = [&](std::vector<WallSlot>& slots, std::vector<std::uint8_t>& count) {
+      std::vector<WallSlot> moved(n * kWallSlots);
+      count.resize(n);
+      for (std::size_t i = 0; i < std::min(n, stride_); ++i)
+        for (int s = 0; s < count[i]; ++s) moved[s * n + i] = slots[s * stride_ + i];
+      slots.swap(moved);
+    };
+    relayout(wall_slots_, wall_count_);
+    relayout(wall_scratch_, count_scratch_);
+    stride_ = n;
+  }
+}
+
 void ForceField::permute(const std::vector<std::uint32_t>& new_to_old) {
   const std::size_t n = new_to_old.size();
-  wall_scratch_.resize(n * kWallSlots);
+  resize(n);
 #pragma omp parallel for if(n >= parallel_min_items()) schedule(static)
-  for (std::size_t i = 0; i < n; ++i)
-    for (int s = 0; s < kWallSlots; ++s) wall_scratch_[i * kWallSlots + s] = wall_slots_[new_to_old[i] * kWallSlots + s];
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t from = new_to_old[i];
+    for (int s = 0; s < wall_count_[from]; ++s) wall_scratch_[s * n + i] = wall_slots_[s * n + from];
+  }
   wall_slots_.swap(wall_scratch_);
   permute_array(wall_count_, count_scratch_, new_to_old);
 }
@@ -497,10 +505,13 @@ void ForceField::restore_wall_contacts(const std::vector<std::uint8_t>& counts, 
   }
   const std::size_t n = counts.size();  // may be fewer than the particles: resize() extends
   wall_slots_.assign(n * kWallSlots, WallSlot{});
+  wall_scratch_.assign(n * kWallSlots, WallSlot{});
   wall_count_ = counts;
+  count_scratch_.assign(n, 0);
+  stride_ = n;
   std::size_t k = 0;
   for (std::size_t i = 0; i < n; ++i)
-    for (int s = 0; s < counts[i]; ++s) wall_slots_[i * kWallSlots + s] = used[k++];
+    for (int s = 0; s < counts[i]; ++s) wall_slots_[s * n + i] = used[k++];
 }
 
 ContactEnergy ForceField::contact_energy(const Particles& p, const NeighborList& nl,
@@ -527,7 +538,7 @@ ContactEnergy ForceField::contact_energy(const Particles& p, const NeighborList&
       for (int q = 0; q < found; ++q) {
         ContactHistory h{};
         for (int s = 0; s < wall_count_[i]; ++s) {
-          const WallSlot& ws = wall_slots_[i * kWallSlots + s];
+          const WallSlot& ws = wall_slot(i, s);
           if (ws.wall == static_cast<int>(w) && ws.feature == wc[q].feature) h = ws.history;
         }
         add(contact[p.material[i] * nm + wall_material_[w]], p.radius[i], wc[q].overlap, h);

@@ -75,13 +75,11 @@ class ForceField {
   ForceDiagnostics compute(Particles& p, NeighborList& nl, const std::vector<Wall>& walls, double dt);
   /// Renumber the per-particle wall histories with the particles.
   void permute(const std::vector<std::uint32_t>& new_to_old);
-  void resize(std::size_t n) {
-    wall_slots_.resize(n * kWallSlots);
-    wall_count_.resize(n);
-  }
+  /// Room for the wall contacts of n particles (those of the first min(n, before) kept).
+  void resize(std::size_t n);
   /// Wall-contact histories: kWallSlots per particle slot, of which the first wall_counts()[i] are
   /// in use (the rest are never read). What a checkpoint stores (dem/checkpoint.hpp).
-  const std::vector<WallSlot>& wall_slots() const { return wall_slots_; }
+  const WallSlot& wall_slot(std::size_t i, int s) const { return wall_slots_[s * stride_ + i]; }
   const std::vector<std::uint8_t>& wall_counts() const { return wall_count_; }
   /// Reinstate them for `counts.size()` particles from the slots in use only, particle by particle
   /// (`used.size()` == sum of `counts`), each naming one of `walls` walls. Throws
@@ -172,9 +170,13 @@ class ForceField {
   void find_near_walls(const Particles& p, const std::vector<Wall>& walls, const NeighborList& nl, bool at_build);
   bool walls_where_found(const std::vector<Wall>& walls) const;
   // kWallSlots per particle, the first wall_count_[i] used; the scratch pair holds the step before
-  // during compute (double buffer) and is scratch for permute otherwise.
+  // during compute (double buffer) and is scratch for permute otherwise. Slot-major: particle i's
+  // slot s at [s * stride_ + i], stride_ = the particle count, so the first slots of neighbouring
+  // spheres share cache lines and a bed's floor contacts are read as one stream (particle-major,
+  // 448 bytes apart, each was a miss no hardware prefetcher followed: docs/performance.md).
   std::vector<WallSlot> wall_slots_, wall_scratch_;
   std::vector<std::uint8_t> wall_count_, count_scratch_;
+  std::size_t stride_ = 0;
 };
 
 }  // namespace grainscale::dem

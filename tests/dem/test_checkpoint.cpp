@@ -41,7 +41,7 @@ int wall_histories(const Simulation& sim) {
   const ForceField& f = sim.force_field();
   int n = 0;
   for (std::size_t i = 0; i < f.wall_counts().size(); ++i)
-    for (int s = 0; s < f.wall_counts()[i]; ++s) n += norm2(f.wall_slots()[i * ForceField::kWallSlots + s].history.shear) > 0;
+    for (int s = 0; s < f.wall_counts()[i]; ++s) n += norm2(f.wall_slot(i, s).history.shear) > 0;
   return n;
 }
 

@@ -172,8 +172,10 @@ TEST_CASE("Spheres on a moving box's floor and in its corners get the one-at-a-t
     if (step == 1) {
       for (std::size_t i = 0; i < p.size(); ++i) p.x[i] += 1e-6 * Vec3{u(rng), u(rng), 0.1 * u(rng)};
     }
-    const std::vector<WallSlot> old_slots = ff.wall_slots();
     const std::vector<std::uint8_t> old_counts = ff.wall_counts();
+    std::vector<std::vector<WallSlot>> old_slots(old_counts.size());
+    for (std::size_t i = 0; i < old_counts.size(); ++i)
+      for (int o = 0; o < old_counts[i]; ++o) old_slots[i].push_back(ff.wall_slot(i, o));
     ff.compute(p, nl, walls, dt);
     int contacts = 0, corners = 0, loaded = 0;
     for (std::size_t i = 0; i < p.size(); ++i) {
@@ -184,7 +186,7 @@ TEST_CASE("Spheres on a moving box's floor and in its corners get the one-at-a-t
       for (int q = 0; q < found; ++q) {
         ContactHistory h{};
         for (int o = 0; o < (i < old_counts.size() ? old_counts[i] : 0); ++o) {
-          const WallSlot& s = old_slots[i * ForceField::kWallSlots + o];
+          const WallSlot& s = old_slots[i][o];
           if (s.wall == 0 && s.feature == wc[q].feature) h = s.history;
         }
         loaded += norm2(h.shear) > 0;
@@ -192,7 +194,7 @@ TEST_CASE("Spheres on a moving box's floor and in its corners get the one-at-a-t
                                                                 p.mass[i], p.inertia[i], h, dt);
         f += c.force;
         t += c.torque;
-        const WallSlot& now = ff.wall_slots()[i * ForceField::kWallSlots + q];
+        const WallSlot& now = ff.wall_slot(i, q);
         CHECK(now.feature == wc[q].feature);
         CHECK(same_bits(now.history.shear, c.history.shear));
       }
