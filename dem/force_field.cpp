@@ -110,15 +110,22 @@ template <class Rolling>
       // The contact in registers (no WallContact array: copied through memory field by field,
       // then read back whole, it stalled on store forwarding, a fifth of the wall contacts of a bed
       // on its floor); the slot filled in place, its history matched with local keys (matching
-      // against fields just stored stalled too: a third of pass 2 on that bed).
-      const WallContact wc = walls[w].contact(hits[q], xi, ri);
+      // against fields just stored stalled too: a third of pass 2 on that bed). Wall::contact's
+      // fields as plain locals, not its struct: GCC built the struct on the stack, 8 bytes at a time,
+      // and read its normal back 16 at a time, a store-forwarding stall on a quarter of this
+      // function's samples (perf, the 10^5 bed).
+      const WallHit& hit = hits[q];
+      const Vec3 normal = pose.direction_to_world(hit.normal);
+      const double overlap = ri - hit.distance;
+      const Vec3 point = xi - hit.distance * normal;  // (as Wall::contact(hit, xi, ri) has them)
+      const int feature = hit.feature;
       const std::int32_t wall = static_cast<std::int32_t>(w);
       WallSlot& s = slots[used++ * stride];
       s.wall = wall;
-      s.feature = wc.feature;
+      s.feature = feature;
       int match = -1;
       for (int o = 0; o < previous; ++o) {
-        if (old[o * stride].wall == wall && old[o * stride].feature == wc.feature) match = o;
+        if (old[o * stride].wall == wall && old[o * stride].feature == feature) match = o;
       }
       // The history goes into the batch from where it is now, not through the slot (flush_walls
       // writes the slot): read back in pieces right after a whole copy, it stalled on store
@@ -126,13 +133,13 @@ template <class Rolling>
       const ContactHistory h =
           match >= 0 ? old[match * stride].history
                      : (previous > 0 ? inherited_history(walls[w].geometry(), old, stride, previous, hits.data(),
-                                                         found, wall, wc.feature)
+                                                         found, wall, feature)
                                      : ContactHistory{});
       const int b = batch.size++;
-      const double lever = ri - wc.overlap;  // as WallBatch::kinematics has it
-      const Vec3 v_rel = vi - lever * cross(wi, wc.normal) - pose.surface_velocity(wc.point);
-      batch.nx[b] = wc.normal.x, batch.ny[b] = wc.normal.y, batch.nz[b] = wc.normal.z;
-      batch.overlap[b] = wc.overlap, batch.ri[b] = ri;
+      const double lever = ri - overlap;  // as WallBatch::kinematics has it
+      const Vec3 v_rel = vi - lever * cross(wi, normal) - pose.surface_velocity(point);
+      batch.nx[b] = normal.x, batch.ny[b] = normal.y, batch.nz[b] = normal.z;
+      batch.overlap[b] = overlap, batch.ri[b] = ri;
       batch.vx[b] = v_rel.x, batch.vy[b] = v_rel.y, batch.vz[b] = v_rel.z;
       batch.wix[b] = wi.x, batch.wiy[b] = wi.y, batch.wiz[b] = wi.z;
       batch.wjx[b] = pose.angular_velocity.x, batch.wjy[b] = pose.angular_velocity.y;
