@@ -261,7 +261,8 @@ void NeighborList::index_partners(std::size_t n) {
 }
 
 void NeighborList::restore(const Particles& p, double skin, std::vector<std::uint32_t> start,
-                           std::vector<std::uint32_t> partner, const std::vector<ContactHistory>& history, std::size_t builds) {
+                           std::vector<std::uint32_t> partner, const std::vector<ContactHistory>& history,
+                           std::size_t builds) {
   // The invariants build() guarantees and the force loop relies on (no bounds checks there). The list
   // may cover fewer particles than `p` holds: those added since the build, at the end, have no entries
   // yet (stale() then asks for a rebuild, which carries the histories over).
