@@ -139,6 +139,7 @@ for n in sizes:
     t = open(f"{out}/timed_{n}.log").read()
     p = re.search(r"^problem: .*?, (\d+) spheres, dt = (\S+) s, settled for (\S+) s, (\d+) contacts, (\d+) wall contacts", t, re.M)
     mem = re.search(r"^memory: ([0-9.]+) bytes per sphere", t, re.M)
+    res = re.search(r"^resident: ([0-9.]+) bytes per sphere", t, re.M)
     ld = load(f"{out}/timed_{n}.log")
     for m in re.finditer(r"^threads (\d+): (\d+) steps in ([0-9.]+) s = ([0-9.]+) M sphere-steps/s.*?(\d+) neighbour-list builds", t, re.M):
         th = int(m.group(1))
@@ -148,6 +149,7 @@ for n in sizes:
         rows.setdefault(th, []).append(dict(
             n=ns, steps=int(m.group(2)), s=float(m.group(3)), rate=float(m.group(4)) * 1e6,
             cps=int(p.group(4)) / ns if p else float("nan"), b=float(mem.group(1)) if mem else float("nan"),
+            resident=float(res.group(1)) if res else float("nan"),
             rss=int(ld.get("maxrss_kb", 0)) * 1024, other=ld.get("other_cores", "?"),
             per_build=int(m.group(2)) / max(1, int(m.group(5))),
             ke=float(end.group(1)) / ns if end else float("nan"),
@@ -157,10 +159,11 @@ print("\ngrainscale")
 for th in sorted(rows):
     print(f"\n{th} thread(s):")
     print(f"{'N':>9} {'steps':>6} {'s':>8} {'M sph-st/s':>10} {'ns/sph-st':>9} {'contacts/sph':>12} {'entries/sph':>11} "
-          f"{'steps/build':>11} {'KE/sph J':>9} {'B/sphere':>8} {'peak RSS MiB':>12} {'other load':>10}")
+          f"{'steps/build':>11} {'KE/sph J':>9} {'B/sphere':>8} {'RSS B/sph':>9} {'peak RSS MiB':>12} {'other load':>10}")
     for r in rows[th]:
         print(f"{r['n']:>9} {r['steps']:>6} {r['s']:8.2f} {r['rate'] / 1e6:10.3f} {1e9 / r['rate']:9.1f} {r['cps']:12.2f} "
-              f"{r['entries']:11.2f} {r['per_build']:11.0f} {r['ke']:9.2e} {r['b']:8.0f} {r['rss'] / 2**20:12.0f} {r['other']:>10}")
+              f"{r['entries']:11.2f} {r['per_build']:11.0f} {r['ke']:9.2e} {r['b']:8.0f} {r['resident']:9.0f} "
+              f"{r['rss'] / 2**20:12.0f} {r['other']:>10}")
     if len(rows[th]) > 1:
         print(verdict([(r["n"], r["rate"]) for r in rows[th]], lambda x: 1 / x[1]))
 
@@ -200,6 +203,8 @@ print(" about the same for every N. entries/sph: neighbour-list entries per sphe
 print(" skin follows the fastest sphere). steps/build: timed steps per neighbour-list build. KE/sph: kinetic energy")
 print(" per sphere at the end of the timed steps: a bed still settling (KE/sph well above the others) rebuilds its list")
 print(" more often and costs more per step; settle longer (SETTLE). other load: cores used by other processes")
-print(" meanwhile, > 0.2 disturbs the figure)")
+print(" meanwhile, > 0.2 disturbs the figure. B/sphere: the arrays grainscale counts (allocated); RSS B/sph: the")
+print(" memory one simulation makes resident (bench: a copy of the settled one, run); peak RSS: the bench process's,")
+print(" which also holds the scenario's inserted bed and the original beside the copy: about twice one simulation)")
 PY
 say "logs and results.txt in $OUT"

@@ -87,11 +87,11 @@ template <class Rolling>
 [[gnu::noinline]] void ForceField::add_wall_contacts(const Models<Rolling>& m, Particles& p,
                                                      const std::vector<Wall>& walls, std::size_t i, double dt,
                                                      WallBatch<Rolling>& batch, WallStats& ws, std::int64_t& bad) {
-  const int previous = count_scratch_[i];
+  const int previous = wall_slots_.before_counts()[i];
   const std::uint32_t near = near_walls_[i];
-  const std::size_t stride = stride_;
-  WallSlot* slots = &wall_slots_[i];  // slot s at slots[s * stride]
-  const WallSlot* old = &wall_scratch_[i];
+  const std::size_t stride = wall_slots_.stride();
+  WallSlot* slots = wall_slots_.now(i);  // slot s at slots[s * stride]
+  const WallSlot* old = wall_slots_.before(i);
   int used = 0;
   const Vec3 xi = p.x[i], vi = p.v[i], wi = p.omega[i];
   const double ri = p.radius[i], mass_i = p.mass[i], inertia_i = p.inertia[i];
@@ -154,7 +154,7 @@ template <class Rolling>
     }
   }
   ws.contacts += static_cast<std::size_t>(used);
-  wall_count_[i] = static_cast<std::uint8_t>(used);
+  wall_slots_.counts()[i] = static_cast<std::uint8_t>(used);
 }
 
 template <class Rolling>
@@ -207,8 +207,7 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
   // step's are written (no copy of a sphere's old slots, which perf showed stalling on the stores
   // it had just made). Both sized for spheres added since.
   resize(n);
-  wall_slots_.swap(wall_scratch_);
-  wall_count_.swap(count_scratch_);
+  wall_slots_.flip();
   if (list_generation_ != nl.generation() || touching_.size() != entries) {
     // A new list: flag every entry whose carried-over history is non-zero (then cleared if apart).
     touching_.resize(entries);
@@ -338,6 +337,8 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
   double worst_wall = 0, stiff_wall = 0;
   const std::uint32_t *const rev_start = nl.rev_starts().data(), *const rev_owner = nl.rev_owners().data();
   const PartnerShare* const share = partner_share_.data();
+  const std::uint8_t* const before_count = wall_slots_.before_counts();
+  std::uint8_t* const count = wall_slots_.counts();
 #pragma omp parallel if(n >= parallel_min_items()) reduction(+ : wall_contacts) reduction(min : bad, overflow) \
     reduction(max : worst_wall, stiff_wall)
   {
@@ -356,15 +357,15 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
         torque[i] += share[r].torque;
       }
       for (std::size_t i = lo; i < hi; ++i) {
-        const int previous = count_scratch_[i];
+        const int previous = before_count[i];
         const std::uint32_t near = near_walls_[i];
         // Most of a bed has no wall within reach and had no wall contact: skip the lot.
         if (previous > 0 || near != 0 || walls.size() > kMaskedWalls) {
           const int queued = batch.size;
           add_wall_contacts(m, p, walls, i, dt, batch, ws, bad);
-          if (wall_count_[i] > 0 || batch.size != queued) continue;  // checked when its contacts are added
+          if (count[i] > 0 || batch.size != queued) continue;  // checked when its contacts are added
         } else {
-          wall_count_[i] = 0;
+          count[i] = 0;
         }
         // x * 0 is 0 for a finite x and NaN for an infinity or a NaN: one test for all six (no branch
         // per component on every sphere).
@@ -462,33 +463,9 @@ bool ForceField::walls_where_found(const std::vector<Wall>& walls) const {
   return true;
 }
 
-void ForceField::resize(std::size_t n) {
-  if (n != stride_) {
-    // A new stride: both buffers laid out again (the slots in use; particles beyond n dropped).
-    auto relayout = [&](std::vector<WallSlot>& slots, std::vector<std::uint8_t>& count) {
-      std::vector<WallSlot> moved(n * kWallSlots);
-      count.resize(n);
-      for (std::size_t i = 0; i < std::min(n, stride_); ++i)
-        for (int s = 0; s < count[i]; ++s) moved[s * n + i] = slots[s * stride_ + i];
-      slots.swap(moved);
-    };
-    relayout(wall_slots_, wall_count_);
-    relayout(wall_scratch_, count_scratch_);
-    stride_ = n;
-  }
-}
+void ForceField::resize(std::size_t n) { wall_slots_.resize(n); }
 
-void ForceField::permute(const std::vector<std::uint32_t>& new_to_old) {
-  const std::size_t n = new_to_old.size();
-  resize(n);
-#pragma omp parallel for if(n >= parallel_min_items()) schedule(static)
-  for (std::size_t i = 0; i < n; ++i) {
-    const std::size_t from = new_to_old[i];
-    for (int s = 0; s < wall_count_[from]; ++s) wall_scratch_[s * n + i] = wall_slots_[s * n + from];
-  }
-  wall_slots_.swap(wall_scratch_);
-  permute_array(wall_count_, count_scratch_, new_to_old);
-}
+void ForceField::permute(const std::vector<std::uint32_t>& new_to_old) { wall_slots_.permute(new_to_old); }
 
 void ForceField::restore_wall_contacts(const std::vector<std::uint8_t>& counts, const std::vector<WallSlot>& used,
                                        std::size_t walls) {
@@ -510,15 +487,7 @@ void ForceField::restore_wall_contacts(const std::vector<std::uint8_t>& counts, 
                                   std::to_string(walls) + ")");
     }
   }
-  const std::size_t n = counts.size();  // may be fewer than the particles: resize() extends
-  wall_slots_.assign(n * kWallSlots, WallSlot{});
-  wall_scratch_.assign(n * kWallSlots, WallSlot{});
-  wall_count_ = counts;
-  count_scratch_.assign(n, 0);
-  stride_ = n;
-  std::size_t k = 0;
-  for (std::size_t i = 0; i < n; ++i)
-    for (int s = 0; s < counts[i]; ++s) wall_slots_[s * n + i] = used[k++];
+  wall_slots_.assign(counts, used);  // may be fewer than the particles: resize() extends
 }
 
 ContactEnergy ForceField::contact_energy(const Particles& p, const NeighborList& nl,
@@ -544,7 +513,7 @@ ContactEnergy ForceField::contact_energy(const Particles& p, const NeighborList&
       const int found = walls[w].contacts(p.x[i], p.radius[i], wc, kWallSlots);  // diagnostics: not hot
       for (int q = 0; q < found; ++q) {
         ContactHistory h{};
-        for (int s = 0; s < wall_count_[i]; ++s) {
+        for (int s = 0; s < wall_slots_.counts_vector()[i]; ++s) {
           const WallSlot& ws = wall_slot(i, s);
           if (ws.wall == static_cast<int>(w) && ws.feature == wc[q].feature) h = ws.history;
         }
@@ -558,7 +527,7 @@ ContactEnergy ForceField::contact_energy(const Particles& p, const NeighborList&
 std::size_t ForceField::bytes() const {
   return partner_share_.capacity() * sizeof(PartnerShare) + touching_.capacity() + partner_touching_.capacity() +
          near_walls_.capacity() * sizeof(std::uint32_t) +
-         (wall_slots_.capacity() + wall_scratch_.capacity()) * sizeof(WallSlot);
+         wall_slots_.bytes();
 }
 
 }  // namespace grainscale::dem

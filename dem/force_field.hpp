@@ -27,6 +27,7 @@
 #include "dem/rolling_model.hpp"
 #include "dem/uninitialized_array.hpp"
 #include "dem/wall.hpp"
+#include "dem/wall_slots.hpp"
 
 namespace grainscale::dem {
 
@@ -47,13 +48,6 @@ struct ForceDiagnostics {
   std::size_t wall_contacts = 0;
 };
 
-/// Tangential history of one particle-wall contact, keyed by (wall, feature).
-struct WallSlot {
-  std::int32_t wall = -1;
-  std::int32_t feature = 0;
-  ContactHistory history;
-};
-
 struct ContactEnergy {
   double normal = 0;      // elastic energy in normal springs, J
   double tangential = 0;  // 1/2 S_t |s|^2 summed (approximate: Mindlin stiffness varies), J
@@ -69,7 +63,7 @@ struct ContactModels {
 
 class ForceField {
  public:
-  static constexpr int kWallSlots = 8;
+  static constexpr int kWallSlots = WallSlots::kSlots;
 
   void setup(const MaterialTable& materials, const std::vector<Wall>& walls, const RollingSettings& rolling);
   ForceDiagnostics compute(Particles& p, NeighborList& nl, const std::vector<Wall>& walls, double dt);
@@ -79,8 +73,8 @@ class ForceField {
   void resize(std::size_t n);
   /// Wall-contact histories: kWallSlots per particle slot, of which the first wall_counts()[i] are
   /// in use (the rest are never read). What a checkpoint stores (dem/checkpoint.hpp).
-  const WallSlot& wall_slot(std::size_t i, int s) const { return wall_slots_[s * stride_ + i]; }
-  const std::vector<std::uint8_t>& wall_counts() const { return wall_count_; }
+  const WallSlot& wall_slot(std::size_t i, int s) const { return wall_slots_.now(i, s); }
+  const std::vector<std::uint8_t>& wall_counts() const { return wall_slots_.counts_vector(); }
   /// Reinstate them for `counts.size()` particles from the slots in use only, particle by particle
   /// (`used.size()` == sum of `counts`), each naming one of `walls` walls. Throws
   /// std::invalid_argument (nothing changed) if they do not fit.
@@ -169,14 +163,9 @@ class ForceField {
   /// at_build: the list was just built, so every sphere is where the list has it.
   void find_near_walls(const Particles& p, const std::vector<Wall>& walls, const NeighborList& nl, bool at_build);
   bool walls_where_found(const std::vector<Wall>& walls) const;
-  // kWallSlots per particle, the first wall_count_[i] used; the scratch pair holds the step before
-  // during compute (double buffer) and is scratch for permute otherwise. Slot-major: particle i's
-  // slot s at [s * stride_ + i], stride_ = the particle count, so the first slots of neighbouring
-  // spheres share cache lines and a bed's floor contacts are read as one stream (particle-major,
-  // 448 bytes apart, each was a miss no hardware prefetcher followed: docs/performance.md).
-  std::vector<WallSlot> wall_slots_, wall_scratch_;
-  std::vector<std::uint8_t> wall_count_, count_scratch_;
-  std::size_t stride_ = 0;
+  // Wall-contact histories, this step's and last step's (double buffer: no copy of a sphere's old
+  // slots, which perf showed stalling on the stores it had just made), slot-major: dem/wall_slots.hpp.
+  WallSlots wall_slots_;
 };
 
 }  // namespace grainscale::dem

@@ -1,4 +1,5 @@
 // The `grainscale` command. Each subcommand runs one stage; `--help` works everywhere.
+#include <malloc.h>
 #include <omp.h>
 
 #include <chrono>
@@ -207,7 +208,25 @@ std::uint64_t state_fingerprint(const dem::Bodies& b) {
   return h;
 }
 
+/// This process's resident memory now (Linux: VmRSS of /proc/self/status), bytes; 0 if unknown.
+std::size_t resident_bytes() {
+  std::FILE* f = std::fopen("/proc/self/status", "r");
+  if (f == nullptr) return 0;
+  char line[256];
+  std::size_t kb = 0;
+  while (std::fgets(line, sizeof line, f) != nullptr) {
+    if (std::sscanf(line, "VmRSS: %zu kB", &kb) == 1) break;
+  }
+  std::fclose(f);
+  return kb * 1024;
+}
+
 int run_bench(const Args& a) {
+  // Large arrays in their own mappings, returned to the system when freed (fixed thresholds: glibc's
+  // adaptive ones would serve a later array from memory a freed one left resident), so that the
+  // resident growth below is what the copied simulation holds. The timed steps allocate nothing.
+  mallopt(M_MMAP_THRESHOLD, 1 << 16);
+  mallopt(M_TRIM_THRESHOLD, 1 << 16);
   if (a.positional.size() != 1) throw InputError("usage: grainscale bench SCENARIO.yaml [--steps N] [--threads LIST] [--settled CHECKPOINT.h5]");
   const dem::Scenario sc = dem::load_scenario(a.positional[0]);
   dem::BuiltScenario built = dem::build(sc);
@@ -247,8 +266,13 @@ int run_bench(const Args& a) {
     std::printf("OpenMP waiting: %s\n", waiting.empty() ? "libgomp default" : waiting.c_str());
   }
   double base = 0;
+  bool first = true;
   for (int threads : thread_list(a.threads, {1, 2})) {
     omp_set_num_threads(threads);
+    // What one simulation holds in memory: the resident growth from copying it and running it (the
+    // process's peak also holds the scenario's own bed, inserted before the settled state replaced it,
+    // and this copy beside the original).
+    const std::size_t resident_before = first ? resident_bytes() : 0;
     dem::Simulation copy = *sim;
     copy.run_steps(200);  // warm caches and buffers
     const std::size_t builds0 = copy.neighbors().builds();
@@ -262,6 +286,13 @@ int run_bench(const Args& a) {
     std::printf("threads %d: %ld steps in %.3f s = %.3f M sphere-steps/s (%.2fx of first), %.3g contacts/s, "
                 "%zu neighbour-list builds\n", threads, a.steps, s, rate / 1e6, rate / base,
                 static_cast<double>(copy.diagnostics().contacts) * a.steps / s, copy.neighbors().builds() - builds0);
+    if (first && resident_before > 0) {
+      const std::size_t after = resident_bytes();
+      std::printf("resident: %.0f bytes per sphere (one simulation: the memory its copy made resident over %ld steps)\n",
+                  after > resident_before ? static_cast<double>(after - resident_before) / copy.particles().size() : 0.0,
+                  a.steps + 200);
+    }
+    first = false;
     // Every thread count (and every build of the code that claims to leave results unchanged) must
     // end in the same state, bit for bit: a fingerprint of the bodies' state says whether it did.
     const dem::Energy e = copy.energy();
