@@ -208,16 +208,15 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
   // it had just made). Both sized for spheres added since.
   resize(n);
   wall_slots_.flip();
+  // Only a model with a rolling spring keeps one per entry (a model without drops any left, as a
+  // checkpoint of an EPSD run restarted under another model has: it neither reads nor writes them).
+  nl.keep_rolling_springs(Rolling::kSpring);
   if (list_generation_ != nl.generation() || touching_.size() != entries) {
     // A new list: flag every entry whose carried-over history is non-zero (then cleared if apart).
     touching_.resize(entries);
     partner_touching_.resize(entries);
     for (std::uint32_t k = 0; k < entries; ++k) {
-      Vec3& rolling = nl.rolling(k);
-      // A rolling spring left by a model that has one (a checkpoint of an EPSD run restarted under
-      // another model) is dropped: this model neither reads nor writes it.
-      if (!Rolling::kSpring && norm2(rolling) != 0) rolling = {};
-      touching_[k] = norm2(nl.shear(k)) != 0 || norm2(rolling) != 0;
+      touching_[k] = norm2(nl.shear(k)) != 0 || (Rolling::kSpring && norm2(nl.rolling(k)) != 0);
       partner_touching_[nl.rev_position(k)] = touching_[k];
     }
     list_generation_ = nl.generation();

@@ -172,18 +172,20 @@ void NeighborList::build(Particles& p, double skin, const std::vector<std::uint3
       for (std::size_t i = 0; i < n; ++i) start_[i + 1] = start_[i] + count_[i];
       partner_.resize(start_[n]);
       shear_.resize(start_[n]);
-      rolling_.resize(start_[n]);
+      rolling_.resize(rolling_springs_ ? start_[n] : 0);
     }
     std::copy(buffer.begin(), buffer.end(), partner_.begin() + start_[first]);
     for (std::size_t i = first; i < last; ++i) {
       const std::uint32_t oi = carry ? new_to_old[i] : 0;
       for (std::uint32_t k = start_[i]; k < start_[i + 1]; ++k) {
-        shear_[k] = {}, rolling_[k] = {};
+        shear_[k] = {};
+        if (rolling_springs_) rolling_[k] = {};
         if (carry && oi < n_old) {
           const std::uint32_t oj = new_to_old[partner_[k]];
           for (std::uint32_t m = old_start_[oi]; m < old_start_[oi + 1]; ++m) {
             if (old_partner_[m] == oj) {
-              shear_[k] = old_shear_[m], rolling_[k] = old_rolling_[m];
+              shear_[k] = old_shear_[m];
+              if (rolling_springs_) rolling_[k] = old_rolling_[m];
               break;
             }
           }
@@ -291,8 +293,11 @@ void NeighborList::restore(const Particles& p, double skin, std::vector<std::uin
   start_ = std::move(start);
   partner_ = std::move(partner);
   shear_.resize(history.size());
-  rolling_.resize(history.size());
-  for (std::size_t k = 0; k < history.size(); ++k) shear_[k] = history[k].shear, rolling_[k] = history[k].rolling;
+  rolling_.resize(rolling_springs_ ? history.size() : 0);
+  for (std::size_t k = 0; k < history.size(); ++k) {
+    shear_[k] = history[k].shear;
+    if (rolling_springs_) rolling_[k] = history[k].rolling;
+  }
   skin_ = skin;
   builds_ = builds;
   ++generation_;
@@ -312,9 +317,21 @@ std::size_t NeighborList::bytes() const {
          (shear_.capacity() + rolling_.capacity() + old_shear_.capacity() + old_rolling_.capacity()) * sizeof(Vec3);
 }
 
+void NeighborList::keep_rolling_springs(bool keep) {
+  if (keep == rolling_springs_) return;
+  rolling_springs_ = keep;
+  if (keep) {  // every entry's starts at zero, and the swap buffer matches the last build's entries
+    rolling_.assign(shear_.size(), Vec3{});
+    old_rolling_.assign(old_shear_.size(), Vec3{});
+  } else {
+    std::vector<Vec3>().swap(rolling_);
+    std::vector<Vec3>().swap(old_rolling_);
+  }
+}
+
 std::vector<ContactHistory> NeighborList::histories() const {
   std::vector<ContactHistory> h(shear_.size());
-  for (std::size_t k = 0; k < h.size(); ++k) h[k] = {shear_[k], rolling_[k]};
+  for (std::size_t k = 0; k < h.size(); ++k) h[k] = history(static_cast<std::uint32_t>(k));
   return h;
 }
 

@@ -70,9 +70,17 @@ class NeighborList {
   /// Entry k's tangential (Mindlin) spring and rolling (EPSD) spring.
   Vec3& shear(std::uint32_t k) { return shear_[k]; }
   const Vec3& shear(std::uint32_t k) const { return shear_[k]; }
+  /// (rolling(k) only while keeps_rolling_springs(); history(k) always, a zero rolling spring else.)
   Vec3& rolling(std::uint32_t k) { return rolling_[k]; }
   const Vec3& rolling(std::uint32_t k) const { return rolling_[k]; }
-  ContactHistory history(std::uint32_t k) const { return {shear_[k], rolling_[k]}; }
+  ContactHistory history(std::uint32_t k) const { return {shear_[k], rolling_springs_ ? rolling_[k] : Vec3{}}; }
+  /// Whether entries carry a rolling spring (the default). The force loop of a rolling model without
+  /// one turns it off: the array is dropped (a rolling spring left by a model that has one, as a
+  /// checkpoint of an EPSD run restarted under another model, with it) and no build fills it; the
+  /// 2 x 24 bytes per entry it held were ~9 % of a settled bed's memory. Turned on, every entry's
+  /// rolling spring starts at zero.
+  bool keeps_rolling_springs() const { return rolling_springs_; }
+  void keep_rolling_springs(bool keep);
   std::size_t entries() const { return partner_.size(); }
   std::size_t builds() const { return builds_; }
   /// Changes whenever the entries change (build or restore); never saved. Lets per-entry data kept
@@ -149,7 +157,8 @@ class NeighborList {
   std::vector<std::vector<std::uint32_t>> thread_partners_;  // scratch of build: partners per thread
 
   std::vector<std::uint32_t> start_, partner_, count_;
-  std::vector<Vec3> shear_, rolling_;  // per entry: see shear(), rolling()
+  std::vector<Vec3> shear_, rolling_;  // per entry: see shear(), rolling() (empty without rolling springs)
+  bool rolling_springs_ = true;
   std::vector<std::uint32_t> old_start_, old_partner_;
   std::vector<Vec3> old_shear_, old_rolling_;
   std::vector<std::uint32_t> rev_start_, rev_entry_, rev_position_, rev_fill_;

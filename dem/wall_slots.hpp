@@ -16,6 +16,7 @@
 #include <cstdlib>
 #include <memory>
 #include <new>
+#include <utility>
 #include <vector>
 
 #include "dem/contact/contact_kinematics.hpp"
@@ -45,8 +46,15 @@ class WallSlots {
     copy_in_use(other.before_.get(), before_count_, before_.get());
     return *this;
   }
-  WallSlots(WallSlots&&) noexcept = default;
-  WallSlots& operator=(WallSlots&&) noexcept = default;
+  // (A moved-from WallSlots is empty, room for no sphere, and usable.)
+  WallSlots(WallSlots&& other) noexcept { *this = std::move(other); }
+  WallSlots& operator=(WallSlots&& other) noexcept {
+    now_ = std::move(other.now_), before_ = std::move(other.before_);
+    count_ = std::move(other.count_), before_count_ = std::move(other.before_count_);
+    stride_ = std::exchange(other.stride_, 0);
+    other.count_.clear(), other.before_count_.clear();
+    return *this;
+  }
 
   /// Spheres there is room for (the distance between one slot of a sphere and the next).
   std::size_t stride() const { return stride_; }

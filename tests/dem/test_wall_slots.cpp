@@ -92,9 +92,16 @@ TEST_CASE("Wall slots in use survive growing, shrinking, renumbering and copying
   const WallSlots copy(w);  // a deep copy, independent of the original
   WallSlots assigned = from_reference(random_reference(17, rng));
   assigned = w;
-  w.resize(0);
+  WallSlots moved(std::move(w));  // the original's slots, now here
+  require_matches(moved, renumbered);
+  std::reverse(order.begin(), order.end());
+  moved.permute(order);  // rewrites them: the copies must not see it
   require_matches(copy, renumbered);
   require_matches(assigned, renumbered);
+
+  REQUIRE(w.stride() == 0);  // a moved-from one is empty and usable
+  w.resize(3);
+  REQUIRE(w.counts_vector() == std::vector<std::uint8_t>(3, 0));
 
   assigned.resize(250);  // spheres dropped from the end
   renumbered.resize(250);
