@@ -115,6 +115,17 @@ TEST_CASE("Only a rolling model with a spring keeps one in the contact history",
     CHECK(s.p.torque[i] == fresh.p.torque[i]);
     CHECK(norm2(s.p.torque[i]) > 0);
   }
+  // Without a spring the list holds none at all (its memory is given back), and a build keeps it so;
+  // back under EPSD every entry's spring starts at zero and grows again.
+  CHECK_FALSE(s.nl.keeps_rolling_springs());
+  s.rebuild();
+  s.ff.compute(s.p, s.nl, s.walls, s.dt);
+  CHECK_FALSE(s.nl.keeps_rolling_springs());
+  CHECK(s.history().rolling == Vec3{});
+  s.ff.setup(s.materials, s.walls, epsd);
+  s.ff.compute(s.p, s.nl, s.walls, s.dt);
+  CHECK(s.nl.keeps_rolling_springs());
+  CHECK(norm2(s.history().rolling) > 0);
 }
 
 TEST_CASE("A static wall is asked about the spheres within reach of it at the list build, and again after it is moved",
