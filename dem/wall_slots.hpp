@@ -102,7 +102,7 @@ class WallSlots {
     }
     now_.swap(before_);
     count_.swap(before_count_);
-    std::fill(before_count_.begin(), before_count_.end(), 0);
+    std::fill(before_count_.begin(), before_count_.end(), 0);  // (a copy reads the slots counts name)
   }
 
   /// These slots for `counts.size()` spheres from the slots in use, sphere by sphere (the caller

@@ -265,10 +265,10 @@ int run_bench(const Args& a) {
     if (const char* spin = std::getenv("GOMP_SPINCOUNT")) waiting += (waiting.empty() ? "" : ", ") + std::string("GOMP_SPINCOUNT=") + spin;
     std::printf("OpenMP waiting: %s\n", waiting.empty() ? "libgomp default" : waiting.c_str());
   }
-  double base = 0;
-  bool first = true;
+  double base = 0;  // the first thread count's rate, once timed
   for (int threads : thread_list(a.threads, {1, 2})) {
     omp_set_num_threads(threads);
+    const bool first = base == 0;
     // What one simulation holds in memory: the resident growth from copying it and running it (the
     // process's peak also holds the scenario's own bed, inserted before the settled state replaced it,
     // and this copy beside the original).
@@ -292,7 +292,6 @@ int run_bench(const Args& a) {
                   after > resident_before ? static_cast<double>(after - resident_before) / copy.particles().size() : 0.0,
                   a.steps + 200);
     }
-    first = false;
     // Every thread count (and every build of the code that claims to leave results unchanged) must
     // end in the same state, bit for bit: a fingerprint of the bodies' state says whether it did.
     const dem::Energy e = copy.energy();
