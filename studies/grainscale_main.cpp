@@ -52,11 +52,12 @@ commands:
         snapshots (+ XDMF for ParaView), summary.yaml and log.txt in the output folder;
         checkpoint.h5 there is updated every output.checkpoint_interval s of wall clock
         and at the end, and --resume continues a stopped run from it, bit for bit
-  bench SCENARIO.yaml [--steps N] [--threads LIST] [--settled CHECKPOINT.h5]
+  bench SCENARIO.yaml [--steps N] [--threads LIST] [--settled CHECKPOINT.h5] [--warmup W]
         settle the scenario to its end time, then time N further steps (default
         20000) from the same settled state on each thread count in LIST (default
-        1,2); prints sphere-steps per second and the speed-up. --settled FILE keeps
-        the settled state as a checkpoint: read if it exists, written otherwise
+        1,2), after W untimed ones (default 200); prints sphere-steps per second and
+        the speed-up. --settled FILE keeps the settled state as a checkpoint: read if
+        it exists, written otherwise
   cg SETTINGS.yaml [--out DIR] [--threads N]
         coarse-grain DEM snapshots into fields in the container frame (HDF5 + XDMF,
         CSV) and the report's measures: chaff per 50 mm slice, top-view coverage,
@@ -119,6 +120,7 @@ struct Args {
   std::string png;
   double density = 0, mass = 0;
   long steps = 20000;
+  long warmup = 200;  // bench: untimed steps before the timed ones
   bool resume = false;
   std::string settled;  // bench: checkpoint of the settled state (read if present, else written)
   std::vector<std::string> cases;  // calibrate: every --case value
@@ -159,6 +161,14 @@ Args parse(int argc, char** argv, int first) {
         throw InputError("--steps: '" + v + "' is not a number");
       }
       if (a.steps < 1) throw InputError("--steps must be at least 1");
+    } else if (s == "--warmup") {
+      const std::string v = value("--warmup");
+      try {
+        a.warmup = std::stol(v);
+      } catch (...) {
+        throw InputError("--warmup: '" + v + "' is not a number");
+      }
+      if (a.warmup < 0) throw InputError("--warmup must be 0 or more");
     } else if (s.rfind("--", 0) == 0) throw InputError("unknown option " + s + " (see grainscale --help)");
     else a.positional.push_back(s);
   }
@@ -221,13 +231,19 @@ std::size_t resident_bytes() {
   return kb * 1024;
 }
 
+/// The timed steps of `bench`, in a function of their own so that a profiler can count them alone
+/// (bench/run_cache_profile.sh: callgrind --toggle-collect=*timed_steps*).
+[[gnu::noinline]] void timed_steps(dem::Simulation& sim, long steps) {
+  sim.run_steps(static_cast<std::uint64_t>(steps));
+}
+
 int run_bench(const Args& a) {
   // Large arrays in their own mappings, returned to the system when freed (fixed thresholds: glibc's
   // adaptive ones would serve a later array from memory a freed one left resident), so that the
   // resident growth below is what the copied simulation holds. The timed steps allocate nothing.
   mallopt(M_MMAP_THRESHOLD, 1 << 16);
   mallopt(M_TRIM_THRESHOLD, 1 << 16);
-  if (a.positional.size() != 1) throw InputError("usage: grainscale bench SCENARIO.yaml [--steps N] [--threads LIST] [--settled CHECKPOINT.h5]");
+  if (a.positional.size() != 1) throw InputError("usage: grainscale bench SCENARIO.yaml [--steps N] [--threads LIST] [--settled CHECKPOINT.h5] [--warmup W]");
   const dem::Scenario sc = dem::load_scenario(a.positional[0]);
   dem::BuiltScenario built = dem::build(sc);
   dem::Simulation* sim = built.sim.get();
@@ -274,11 +290,11 @@ int run_bench(const Args& a) {
     // and this copy beside the original).
     const std::size_t resident_before = first ? resident_bytes() : 0;
     dem::Simulation copy = *sim;
-    copy.run_steps(200);  // warm caches and buffers
+    copy.run_steps(static_cast<std::uint64_t>(a.warmup));  // warm caches and buffers
     const std::size_t builds0 = copy.neighbors().builds();
     const auto t0 = std::chrono::steady_clock::now();
     const std::clock_t c0 = std::clock();
-    copy.run_steps(static_cast<std::uint64_t>(a.steps));
+    timed_steps(copy, a.steps);
     const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     const double cpu = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;  // all threads
     const double rate = static_cast<double>(a.steps) * copy.particles().size() / s;
@@ -290,7 +306,7 @@ int run_bench(const Args& a) {
       const std::size_t after = resident_bytes();
       std::printf("resident: %.0f bytes per sphere (one simulation: the memory its copy made resident over %ld steps)\n",
                   after > resident_before ? static_cast<double>(after - resident_before) / copy.particles().size() : 0.0,
-                  a.steps + 200);
+                  a.steps + a.warmup);
     }
     // Every thread count (and every build of the code that claims to leave results unchanged) must
     // end in the same state, bit for bit: a fingerprint of the bodies' state says whether it did.

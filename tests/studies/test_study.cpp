@@ -166,3 +166,22 @@ TEST_CASE("grainscale COMMAND --help prints that command's usage", "[study][cli]
     CHECK(out.find("(all commands: grainscale --help)") != std::string::npos);
   }
 }
+
+TEST_CASE("grainscale bench names a bad --steps or --warmup and the allowed range", "[study][cli][input]") {
+  struct Case {
+    const char* args;
+    const char* message;
+  };
+  for (const Case c : {Case{"--warmup -1", "--warmup must be 0 or more"}, Case{"--warmup many", "--warmup: 'many' is not a number"},
+                       Case{"--steps 0", "--steps must be at least 1"}}) {
+    INFO(c.args);
+    FILE* p = popen((std::string(GRAINSCALE_BINARY) + " bench unused.yaml " + c.args + " 2>&1").c_str(), "r");
+    REQUIRE(p != nullptr);
+    std::string out;
+    char buf[512];
+    while (std::fgets(buf, sizeof buf, p)) out += buf;
+    INFO(out);
+    CHECK(pclose(p) != 0);
+    CHECK(out.find(c.message) != std::string::npos);
+  }
+}
