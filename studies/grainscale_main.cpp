@@ -134,6 +134,18 @@ Args parse(int argc, char** argv, int first) {
       if (i + 1 >= argc) throw InputError(std::string("option ") + name + " needs a value");
       return std::string(argv[++i]);
     };
+    auto whole_number = [&](const char* name) {  // all of the value, not a leading part ("10x")
+      const std::string v = value(name);
+      std::size_t used = 0;
+      long n = 0;
+      try {
+        n = std::stol(v, &used);
+      } catch (...) {
+        used = 0;
+      }
+      if (used == 0 || used != v.size()) throw InputError(std::string(name) + ": '" + v + "' is not a whole number");
+      return n;
+    };
     auto positive = [&](const char* name) {
       const std::string v = value(name);
       double d = 0;
@@ -154,20 +166,10 @@ Args parse(int argc, char** argv, int first) {
     else if (s == "--settled") a.settled = value("--settled");
     else if (s == "--case") a.cases.push_back(value("--case"));
     else if (s == "--steps") {
-      const std::string v = value("--steps");
-      try {
-        a.steps = std::stol(v);
-      } catch (...) {
-        throw InputError("--steps: '" + v + "' is not a number");
-      }
+      a.steps = whole_number("--steps");
       if (a.steps < 1) throw InputError("--steps must be at least 1");
     } else if (s == "--warmup") {
-      const std::string v = value("--warmup");
-      try {
-        a.warmup = std::stol(v);
-      } catch (...) {
-        throw InputError("--warmup: '" + v + "' is not a number");
-      }
+      a.warmup = whole_number("--warmup");
       if (a.warmup < 0) throw InputError("--warmup must be 0 or more");
     } else if (s.rfind("--", 0) == 0) throw InputError("unknown option " + s + " (see grainscale --help)");
     else a.positional.push_back(s);

@@ -172,8 +172,8 @@ TEST_CASE("grainscale bench names a bad --steps or --warmup and the allowed rang
     const char* args;
     const char* message;
   };
-  for (const Case c : {Case{"--warmup -1", "--warmup must be 0 or more"}, Case{"--warmup many", "--warmup: 'many' is not a number"},
-                       Case{"--steps 0", "--steps must be at least 1"}}) {
+  for (const Case c : {Case{"--warmup -1", "--warmup must be 0 or more"}, Case{"--warmup many", "--warmup: 'many' is not a whole number"},
+                       Case{"--steps 0", "--steps must be at least 1"}, Case{"--steps 10x", "--steps: '10x' is not a whole number"}}) {
     INFO(c.args);
     FILE* p = popen((std::string(GRAINSCALE_BINARY) + " bench unused.yaml " + c.args + " 2>&1").c_str(), "r");
     REQUIRE(p != nullptr);
