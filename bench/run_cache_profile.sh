@@ -23,8 +23,9 @@
 #   SETTLE_THREADS=nproc  threads for the (native) settle when SETTLED.h5 is missing
 #   BUILD_DIR=build  GRAINSCALE=path   the native grainscale used to settle
 #   OUT=bench/out/cache_profile
-# Cost: valgrind runs ~50x slower than native; a 10^5-sphere bed's load and copy take ~2 min and 20
-# steps ~2 min.
+# Cost: valgrind runs ~50x slower than native, the setup (the scenario's insertion, the checkpoint's
+# load) included: 20 steps took ~70 s on the 10^5-sphere bed and ~2.5 min on the clump bed, after
+# ~6 min for the portable build the first time.
 set -euo pipefail
 BENCH_NAME=cache_profile
 source "$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)/lib_bench.sh"
