@@ -99,6 +99,9 @@ def stage(pattern):
     for name, c in cost.items():
         if re.search(pattern, name) and c[0] > best[0]: best = c
     return best
+# The force passes are ForceField::compute_with's first and second parallel regions, which GCC outlines
+# as ._omp_fn.0 and ._omp_fn.1 in source order: a new parallel region before them there needs new
+# patterns here.
 stages = [  # (label, pattern); the wall contacts are part of force pass 2
     ("whole step", r"Simulation::step\(\)"),
     ("drift (half kick, move, spheres follow)", r"Simulation::drift\(double\)"),
