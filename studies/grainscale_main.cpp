@@ -183,11 +183,13 @@ std::vector<int> thread_list(const std::string& s, std::vector<int> fallback) {
   std::stringstream in(s);
   std::string item;
   while (std::getline(in, item, ',')) {
+    std::size_t used = 0;
     try {
-      out.push_back(std::stoi(item));
+      out.push_back(std::stoi(item, &used));
     } catch (...) {
-      throw InputError("--threads: '" + item + "' is not a number");
+      used = 0;
     }
+    if (used == 0 || used != item.size()) throw InputError("--threads: '" + item + "' is not a whole number");
     if (out.back() < 1 || out.back() > 1024) throw InputError("--threads: counts must be in [1, 1024]");
   }
   return out;

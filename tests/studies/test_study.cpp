@@ -167,15 +167,19 @@ TEST_CASE("grainscale COMMAND --help prints that command's usage", "[study][cli]
   }
 }
 
-TEST_CASE("grainscale bench names a bad --steps or --warmup and the allowed range", "[study][cli][input]") {
+TEST_CASE("grainscale names a bad --steps, --warmup or --threads and the allowed range", "[study][cli][input]") {
   struct Case {
     const char* args;
     const char* message;
   };
-  for (const Case c : {Case{"--warmup -1", "--warmup must be 0 or more"}, Case{"--warmup many", "--warmup: 'many' is not a whole number"},
-                       Case{"--steps 0", "--steps must be at least 1"}, Case{"--steps 10x", "--steps: '10x' is not a whole number"}}) {
+  for (const Case c : {Case{"bench unused.yaml --warmup -1", "--warmup must be 0 or more"},
+                       Case{"bench unused.yaml --warmup many", "--warmup: 'many' is not a whole number"},
+                       Case{"bench unused.yaml --steps 0", "--steps must be at least 1"},
+                       Case{"bench unused.yaml --steps 10x", "--steps: '10x' is not a whole number"},
+                       Case{"dem unused.yaml --threads 1,2x", "--threads: '2x' is not a whole number"},
+                       Case{"dem unused.yaml --threads 0", "--threads: counts must be in [1, 1024]"}}) {
     INFO(c.args);
-    FILE* p = popen((std::string(GRAINSCALE_BINARY) + " bench unused.yaml " + c.args + " 2>&1").c_str(), "r");
+    FILE* p = popen((std::string(GRAINSCALE_BINARY) + " " + c.args + " 2>&1").c_str(), "r");
     REQUIRE(p != nullptr);
     std::string out;
     char buf[512];
