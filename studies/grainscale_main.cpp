@@ -149,11 +149,13 @@ Args parse(int argc, char** argv, int first) {
     auto positive = [&](const char* name) {
       const std::string v = value(name);
       double d = 0;
+      std::size_t used = 0;
       try {
-        d = std::stod(v);
+        d = std::stod(v, &used);
       } catch (...) {
-        throw InputError(std::string(name) + ": '" + v + "' is not a number");
+        used = 0;
       }
+      if (used == 0 || used != v.size()) throw InputError(std::string(name) + ": '" + v + "' is not a number");
       if (!(d > 0) || !std::isfinite(d)) throw InputError(std::string(name) + " must be positive");
       return d;
     };

@@ -167,7 +167,7 @@ TEST_CASE("grainscale COMMAND --help prints that command's usage", "[study][cli]
   }
 }
 
-TEST_CASE("grainscale names a bad --steps, --warmup or --threads and the allowed range", "[study][cli][input]") {
+TEST_CASE("grainscale names a bad number in an option (--steps, --warmup, --threads, --density, --mass) and the allowed range", "[study][cli][input]") {
   struct Case {
     const char* args;
     const char* message;
@@ -177,7 +177,9 @@ TEST_CASE("grainscale names a bad --steps, --warmup or --threads and the allowed
                        Case{"bench unused.yaml --steps 0", "--steps must be at least 1"},
                        Case{"bench unused.yaml --steps 10x", "--steps: '10x' is not a whole number"},
                        Case{"dem unused.yaml --threads 1,2x", "--threads: '2x' is not a whole number"},
-                       Case{"dem unused.yaml --threads 0", "--threads: counts must be in [1, 1024]"}}) {
+                       Case{"dem unused.yaml --threads 0", "--threads: counts must be in [1, 1024]"},
+                       Case{"shape unused.yaml --density 1000kg", "--density: '1000kg' is not a number"},
+                       Case{"shape unused.yaml --mass -1", "--mass must be positive"}}) {
     INFO(c.args);
     FILE* p = popen((std::string(GRAINSCALE_BINARY) + " " + c.args + " 2>&1").c_str(), "r");
     REQUIRE(p != nullptr);
