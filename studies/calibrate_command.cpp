@@ -15,6 +15,7 @@
 
 #include "dem/atomic_file.hpp"
 #include "dem/input_error.hpp"
+#include "studies/option_number.hpp"
 #include "dem/material.hpp"
 #include "dem/simulation.hpp"
 #include "grainscale_version.hpp"
@@ -353,14 +354,7 @@ int calibrate_main(const std::vector<std::string>& positional, const std::string
     }
   }
   if (!threads.empty()) {
-    int n = 0;
-    try {
-      n = std::stoi(threads);
-    } catch (...) {
-      throw InputError("--threads: '" + threads + "' is not a number");
-    }
-    if (n < 1 || n > 1024) throw InputError("--threads must be in [1, 1024]");
-    omp_set_num_threads(n);
+    omp_set_num_threads(thread_count_option(threads));
   }
   return run_calibrate({positional[0], out, names});
 }

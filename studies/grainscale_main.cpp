@@ -25,6 +25,7 @@
 #include "studies/calibrate_command.hpp"
 #include "studies/cg_plots.hpp"
 #include "studies/fit_command.hpp"
+#include "studies/option_number.hpp"
 #include "studies/loop_command.hpp"
 #include "studies/hold_command.hpp"
 #include "studies/openmp_wait_policy.hpp"
@@ -134,28 +135,8 @@ Args parse(int argc, char** argv, int first) {
       if (i + 1 >= argc) throw InputError(std::string("option ") + name + " needs a value");
       return std::string(argv[++i]);
     };
-    auto whole_number = [&](const char* name) {  // all of the value, not a leading part ("10x")
-      const std::string v = value(name);
-      std::size_t used = 0;
-      long n = 0;
-      try {
-        n = std::stol(v, &used);
-      } catch (...) {
-        used = 0;
-      }
-      if (used == 0 || used != v.size()) throw InputError(std::string(name) + ": '" + v + "' is not a whole number");
-      return n;
-    };
     auto positive = [&](const char* name) {
-      const std::string v = value(name);
-      double d = 0;
-      std::size_t used = 0;
-      try {
-        d = std::stod(v, &used);
-      } catch (...) {
-        used = 0;
-      }
-      if (used == 0 || used != v.size()) throw InputError(std::string(name) + ": '" + v + "' is not a number");
+      const double d = studies::number_option(name, value(name));
       if (!(d > 0) || !std::isfinite(d)) throw InputError(std::string(name) + " must be positive");
       return d;
     };
@@ -168,10 +149,10 @@ Args parse(int argc, char** argv, int first) {
     else if (s == "--settled") a.settled = value("--settled");
     else if (s == "--case") a.cases.push_back(value("--case"));
     else if (s == "--steps") {
-      a.steps = whole_number("--steps");
+      a.steps = studies::whole_number_option("--steps", value("--steps"));
       if (a.steps < 1) throw InputError("--steps must be at least 1");
     } else if (s == "--warmup") {
-      a.warmup = whole_number("--warmup");
+      a.warmup = studies::whole_number_option("--warmup", value("--warmup"));
       if (a.warmup < 0) throw InputError("--warmup must be 0 or more");
     } else if (s.rfind("--", 0) == 0) throw InputError("unknown option " + s + " (see grainscale --help)");
     else a.positional.push_back(s);
@@ -184,16 +165,7 @@ std::vector<int> thread_list(const std::string& s, std::vector<int> fallback) {
   std::vector<int> out;
   std::stringstream in(s);
   std::string item;
-  while (std::getline(in, item, ',')) {
-    std::size_t used = 0;
-    try {
-      out.push_back(std::stoi(item, &used));
-    } catch (...) {
-      used = 0;
-    }
-    if (used == 0 || used != item.size()) throw InputError("--threads: '" + item + "' is not a whole number");
-    if (out.back() < 1 || out.back() > 1024) throw InputError("--threads: counts must be in [1, 1024]");
-  }
+  while (std::getline(in, item, ',')) out.push_back(studies::thread_count_option(item));
   return out;
 }
 

@@ -3,6 +3,7 @@
 #include <cstdio>
 
 #include "dem/input_error.hpp"
+#include "studies/option_number.hpp"
 #include "dem/yaml_map.hpp"
 #include "studies/trial_planning_study.hpp"
 #include "studies/ensemble_run.hpp"
@@ -53,12 +54,7 @@ int study_command(const std::vector<std::string>& positional, const std::string&
   o.output_override = out;
   o.resume = resume;
   if (!threads.empty()) {
-    try {
-      o.threads = std::stoi(threads);
-    } catch (...) {
-      throw InputError("--threads: '" + threads + "' is not a number");
-    }
-    if (o.threads < 1 || o.threads > 1024) throw InputError("--threads must be in [1, 1024]");
+    o.threads = thread_count_option(threads);
   }
   const StudyKind& kind = study_kind_of(positional[0]);
   const std::string report = kind.run(positional[0], o);

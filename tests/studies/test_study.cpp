@@ -178,6 +178,8 @@ TEST_CASE("grainscale names a bad number in an option (--steps, --warmup, --thre
                        Case{"bench unused.yaml --steps 10x", "--steps: '10x' is not a whole number"},
                        Case{"dem unused.yaml --threads 1,2x", "--threads: '2x' is not a whole number"},
                        Case{"dem unused.yaml --threads 0", "--threads: counts must be in [1, 1024]"},
+                       Case{"study unused.yaml --threads 2x", "--threads: '2x' is not a whole number"},
+                       Case{"calibrate unused.yaml --threads 0", "--threads: counts must be in [1, 1024]"},
                        Case{"shape unused.yaml --density 1000kg", "--density: '1000kg' is not a number"},
                        Case{"shape unused.yaml --mass -1", "--mass must be positive"}}) {
     INFO(c.args);
