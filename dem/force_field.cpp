@@ -512,7 +512,7 @@ ContactEnergy ForceField::contact_energy(const Particles& p, const NeighborList&
       const int found = walls[w].contacts(p.x[i], p.radius[i], wc, kWallSlots);  // diagnostics: not hot
       for (int q = 0; q < found; ++q) {
         ContactHistory h{};
-        for (int s = 0; s < wall_slots_.counts_vector()[i]; ++s) {
+        for (int s = 0; s < wall_counts()[i]; ++s) {
           const WallSlot& ws = wall_slot(i, s);
           if (ws.wall == static_cast<int>(w) && ws.feature == wc[q].feature) h = ws.history;
         }

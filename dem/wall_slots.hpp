@@ -42,8 +42,8 @@ class WallSlots {
     stride_ = other.stride_;
     now_ = allocate(stride_), before_ = allocate(stride_);
     count_ = other.count_, before_count_ = other.before_count_;
-    copy_in_use(other.now_.get(), count_, now_.get());
-    copy_in_use(other.before_.get(), before_count_, before_.get());
+    copy_in_use(other.now_.get(), stride_, count_.data(), stride_, now_.get(), stride_);
+    copy_in_use(other.before_.get(), stride_, before_count_.data(), stride_, before_.get(), stride_);
     return *this;
   }
   // (A moved-from WallSlots is empty, room for no sphere, and usable.)
@@ -80,8 +80,7 @@ class WallSlots {
     auto relayout = [&](Buffer& slots, std::vector<std::uint8_t>& count) {
       Buffer moved = allocate(n);
       count.resize(n, 0);
-      for (std::size_t i = 0; i < std::min(n, stride_); ++i)
-        for (int s = 0; s < count[i]; ++s) moved[s * n + i] = slots[s * stride_ + i];
+      copy_in_use(slots.get(), stride_, count.data(), std::min(n, stride_), moved.get(), n);
       slots.swap(moved);
     };
     relayout(now_, count_);
@@ -136,9 +135,11 @@ class WallSlots {
     return Buffer(static_cast<WallSlot*>(p));
   }
 
-  void copy_in_use(const WallSlot* from, const std::vector<std::uint8_t>& count, WallSlot* to) const {
-    for (std::size_t i = 0; i < count.size(); ++i)
-      for (int s = 0; s < count[i]; ++s) to[s * stride_ + i] = from[s * stride_ + i];
+  /// The slots in use of the first `spheres` spheres, from one slot-major layout to another.
+  static void copy_in_use(const WallSlot* from, std::size_t from_stride, const std::uint8_t* count,
+                          std::size_t spheres, WallSlot* to, std::size_t to_stride) {
+    for (std::size_t i = 0; i < spheres; ++i)
+      for (int s = 0; s < count[i]; ++s) to[s * to_stride + i] = from[s * from_stride + i];
   }
 
   Buffer now_, before_;
