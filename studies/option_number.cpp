@@ -1,31 +1,34 @@
 #include "studies/option_number.hpp"
 
+#include <cstddef>
+
 #include "dem/input_error.hpp"
 
 namespace grainscale::studies {
 
-long whole_number_option(const std::string& option, const std::string& value) {
+namespace {
+/// `parse(value, &used)` (a std::sto* function) must use all of `value`, else an InputError saying
+/// that `value` is not `what`.
+template <class Parse>
+auto all_of(const std::string& option, const std::string& value, const char* what, Parse parse) {
   std::size_t used = 0;
-  long n = 0;
+  decltype(parse(value, &used)) x{};
   try {
-    n = std::stol(value, &used);
+    x = parse(value, &used);
   } catch (...) {
     used = 0;
   }
-  if (used == 0 || used != value.size()) throw InputError(option + ": '" + value + "' is not a whole number");
-  return n;
+  if (used == 0 || used != value.size()) throw InputError(option + ": '" + value + "' is not " + what);
+  return x;
+}
+}  // namespace
+
+long whole_number_option(const std::string& option, const std::string& value) {
+  return all_of(option, value, "a whole number", [](const std::string& v, std::size_t* used) { return std::stol(v, used); });
 }
 
 double number_option(const std::string& option, const std::string& value) {
-  std::size_t used = 0;
-  double d = 0;
-  try {
-    d = std::stod(value, &used);
-  } catch (...) {
-    used = 0;
-  }
-  if (used == 0 || used != value.size()) throw InputError(option + ": '" + value + "' is not a number");
-  return d;
+  return all_of(option, value, "a number", [](const std::string& v, std::size_t* used) { return std::stod(v, used); });
 }
 
 int thread_count_option(const std::string& value) {
