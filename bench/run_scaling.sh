@@ -13,8 +13,13 @@
 #   SETTLE=0.2           s simulated settling (untimed; kept as a checkpoint in OUT, reused next time
 #                        unless FRESH=1); run on SETTLE_THREADS threads (default: every core; the
 #                        settled state is the same bit for bit on any thread count)
-#   SPHERE_STEPS=1e8     timed work per size: steps = max(MIN_STEPS, SPHERE_STEPS / N)
-#   MIN_STEPS=500
+#   SPHERE_STEPS=1e8     timed work per size and round: steps = max(MIN_STEPS, SPHERE_STEPS / ROUNDS / N)
+#   MIN_STEPS=300
+#   ROUNDS=3             grainscale times every size ROUNDS times, the sizes interleaved (round 1: every
+#                        size, then round 2, ...): this VM's speed drifts by 10-30 % over minutes, which a
+#                        single run per size reads as a growth with N (or hides one). The table gives
+#                        the median of the rounds and their spread; the verdict takes the largest /
+#                        smallest ratio within each round (sizes timed a minute apart) and its median
 #   MEM_PER_SPHERE=6000  bytes per sphere assumed for the memory check (bench counts ~1500-2000 in its
 #                        arrays; peak RSS was 3.3 kB per sphere at N = 1e5, so 1e6 needs ~3.5 GB)
 #   IDLE_WAIT=600 IDLE_MAX=10   wait for an idle machine before each timed run (IDLE_WAIT=0: don't)
@@ -25,7 +30,7 @@
 #                        the bound of grainscale's adaptive one); 1 and 2 MPI processes as THREADS.
 #                        It settles each run itself (no checkpoint). LIGGGHTS=0: grainscale only
 #   OUT=bench/out/scaling
-# Quick check of the script: SIZES="300 3000" SETTLE=0.02 SPHERE_STEPS=1e5 MIN_STEPS=100 IDLE_WAIT=0
+# Quick check of the script: SIZES="300 3000" SETTLE=0.02 SPHERE_STEPS=1e5 MIN_STEPS=100 IDLE_WAIT=0 ROUNDS=2
 set -euo pipefail
 BENCH_NAME=scaling
 source "$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)/lib_bench.sh"
@@ -36,7 +41,9 @@ THREADS="${THREADS:-1,2}"
 SETTLE="${SETTLE:-0.2}"
 SETTLE_THREADS="${SETTLE_THREADS:-$(nproc)}"
 SPHERE_STEPS="${SPHERE_STEPS:-1e8}"
-MIN_STEPS="${MIN_STEPS:-500}"
+MIN_STEPS="${MIN_STEPS:-300}"
+ROUNDS="${ROUNDS:-3}"
+[[ "$ROUNDS" =~ ^[1-9][0-9]*$ ]] || die "ROUNDS=$ROUNDS: a whole number of rounds >= 1"
 MEM_PER_SPHERE="${MEM_PER_SPHERE:-6000}"
 FRESH="${FRESH:-0}"
 WITH_LIGGGHTS="${LIGGGHTS:-1}"
@@ -45,6 +52,7 @@ OUT="$(cd "$OUT" && pwd)"
 need_grainscale
 if [[ "$WITH_LIGGGHTS" != 0 ]]; then need_liggghts; fi
 rm -f "$OUT"/timed_*.log* "$OUT"/liggghts_*.log* "$OUT/results.txt"
+steps_for() { python3 -c "print(max(int($MIN_STEPS), int(float($SPHERE_STEPS) / $ROUNDS / $1)))"; }
 
 mem_avail_mib() { awk '/^MemAvailable:/{printf "%d\n", $2 / 1024}' /proc/meminfo; }
 
@@ -86,15 +94,26 @@ PY
     run_logged "$OUT/settle_${n}.log" "$GS" bench "$yaml" --steps 1 --threads "$SETTLE_THREADS" --settled "$ckpt" \
       || die "settling N = $n failed; see $OUT/settle_${n}.log"
   fi
-  steps="$(python3 -c "print(max(int($MIN_STEPS), int(float($SPHERE_STEPS) / $n)))")"
-  wait_idle
-  log="$OUT/timed_${n}.log"
-  say "N = $n: $steps timed steps on $THREADS thread(s) -> $log"
-  run_logged "$log" "$GS" bench "$yaml" --steps "$steps" --threads "$THREADS" --settled "$ckpt" \
-    || die "bench N = $n failed; see $log"
-  grep -E '^(problem|memory|threads)' "$log" >&2 || true
   ran+=("$n")
-  if [[ "$WITH_LIGGGHTS" != 0 ]]; then
+done
+(( ${#ran[@]} > 0 )) || die "no size was run"
+
+for (( round = 1; round <= ROUNDS; ++round )); do
+  for n in "${ran[@]}"; do
+    steps="$(steps_for "$n")"
+    wait_idle
+    log="$OUT/timed_${n}_r${round}.log"
+    say "round $round/$ROUNDS, N = $n: $steps timed steps on $THREADS thread(s) -> $log"
+    run_logged "$log" "$GS" bench "$OUT/scale_${n}.yaml" --steps "$steps" --threads "$THREADS" \
+      --settled "$OUT/settled_${n}.h5" || die "bench N = $n failed; see $log"
+    grep -E '^threads [0-9]+: [0-9]+ steps' "$log" >&2 || true
+  done
+done
+
+if [[ "$WITH_LIGGGHTS" != 0 ]]; then
+  for n in "${ran[@]}"; do
+    steps="$(steps_for "$n")"
+    log="$OUT/timed_${n}_r1.log"
     # the same problem: grainscale's time step, 0.2 r_max skin (r_max = 1.05 x 6.7 mm), the box and fill
     dt="$(sed -n 's/^\[bench\] [0-9]* spheres; time step \([0-9.eE+-]*\) s.*/\1/p' "$log" | head -1)"
     [[ -n "$dt" ]] || die "no time step in $log"
@@ -113,9 +132,8 @@ PY
           -var px "$np" -var lx "$side" -var ly "$side" -var hfill 0.065) || die "LIGGGHTS failed; see $llog"
       grep -E '^Loop time' "$llog" | tail -1 >&2 || die "no 'Loop time' line in $llog"
     done
-  fi
-done
-(( ${#ran[@]} > 0 )) || die "no size was run"
+  done
+fi
 
 python3 - "$OUT" "${ran[@]}" <<'PY' | tee "$OUT/results.txt"
 import re, sys
@@ -127,45 +145,67 @@ def load(log):
     except OSError:
         return {}
 
-def verdict(r, ns):  # r: rows of one thread count, ns(row) = ns per sphere-step
-    small, large = r[0], r[-1]
-    ratio = ns(large) / ns(small)
-    return (f"ns per sphere-step, largest / smallest N ({large[0]} / {small[0]}): {ratio:.2f} "
+def verdict(per_round):  # per_round: one list per round of (N, ns per sphere-step), sizes in order
+    ratios = sorted(r[-1][1] / r[0][1] for r in per_round)
+    small, large = per_round[0][0][0], per_round[0][-1][0]
+    ratio = ratios[len(ratios) // 2] if len(ratios) % 2 else 0.5 * (ratios[len(ratios) // 2 - 1] + ratios[len(ratios) // 2])
+    return (f"ns per sphere-step, largest / smallest N ({large} / {small}): {ratio:.2f} (the median of the rounds' ratios: "
+            + " ".join(f"{x:.2f}" for x in ratios) + ") "
             f"-> {'linear (cost per sphere-step does not grow)' if ratio <= 1.25 else 'NOT linear: cost per sphere-step grows with N'}"
             " (threshold 1.25; a ratio below 1 means the small problems carry per-step overhead)")
 
-rows = {}
+runs = {}  # runs[threads][N] = one dict per round
 for n in sizes:
-    t = open(f"{out}/timed_{n}.log").read()
-    p = re.search(r"^problem: .*?, (\d+) spheres, dt = (\S+) s, settled for (\S+) s, (\d+) contacts, (\d+) wall contacts", t, re.M)
-    mem = re.search(r"^memory: ([0-9.]+) bytes per sphere", t, re.M)
-    res = re.search(r"^resident: ([0-9.]+) bytes per sphere", t, re.M)
-    ld = load(f"{out}/timed_{n}.log")
-    for m in re.finditer(r"^threads (\d+): (\d+) steps in ([0-9.]+) s = ([0-9.]+) M sphere-steps/s.*?(\d+) neighbour-list builds", t, re.M):
-        th = int(m.group(1))
-        end = re.search(r"^threads %d: CPU .*?kinetic energy (\S+) J" % th, t, re.M)
-        lst = re.search(r"^threads %d: neighbour list at the end: skin (\S+) m, ([0-9.]+) entries per sphere" % th, t, re.M)
-        ns = int(p.group(1)) if p else n
-        rows.setdefault(th, []).append(dict(
-            n=ns, steps=int(m.group(2)), s=float(m.group(3)), rate=float(m.group(4)) * 1e6,
-            cps=int(p.group(4)) / ns if p else float("nan"), b=float(mem.group(1)) if mem else float("nan"),
-            resident=float(res.group(1)) if res else float("nan"),
-            rss=int(ld.get("maxrss_kb", 0)) * 1024, other=ld.get("other_cores", "?"),
-            per_build=int(m.group(2)) / max(1, int(m.group(5))),
-            ke=float(end.group(1)) / ns if end else float("nan"),
-            entries=float(lst.group(2)) if lst else float("nan")))
+    r = 1
+    while True:
+        log = f"{out}/timed_{n}_r{r}.log"
+        try:
+            t = open(log).read()
+        except OSError:
+            break
+        p = re.search(r"^problem: .*?, (\d+) spheres, dt = (\S+) s, settled for (\S+) s, (\d+) contacts, (\d+) wall contacts", t, re.M)
+        mem = re.search(r"^memory: ([0-9.]+) bytes per sphere", t, re.M)
+        res = re.search(r"^resident: ([0-9.]+) bytes per sphere", t, re.M)
+        ld = load(log)
+        for m in re.finditer(r"^threads (\d+): (\d+) steps in ([0-9.]+) s = ([0-9.]+) M sphere-steps/s.*?(\d+) neighbour-list builds", t, re.M):
+            th = int(m.group(1))
+            end = re.search(r"^threads %d: CPU .*?kinetic energy (\S+) J" % th, t, re.M)
+            lst = re.search(r"^threads %d: neighbour list at the end: skin (\S+) m, ([0-9.]+) entries per sphere" % th, t, re.M)
+            ns = int(p.group(1)) if p else n
+            runs.setdefault(th, {}).setdefault(n, []).append(dict(
+                n=ns, steps=int(m.group(2)), s=float(m.group(3)), rate=float(m.group(4)) * 1e6,
+                cps=int(p.group(4)) / ns if p else float("nan"), b=float(mem.group(1)) if mem else float("nan"),
+                resident=float(res.group(1)) if res else float("nan"),
+                rss=int(ld.get("maxrss_kb", 0)) * 1024, other=float(ld.get("other_cores", "nan")),
+                per_build=int(m.group(2)) / max(1, int(m.group(5))),
+                ke=float(end.group(1)) / ns if end else float("nan"),
+                entries=float(lst.group(2)) if lst else float("nan")))
+        r += 1
+rows = {}  # rows[threads]: per size, the median round (of an even number, the slower middle one)
+for th, by_n in runs.items():
+    for n in sizes:
+        if n not in by_n:
+            continue
+        rr = sorted(by_n[n], key=lambda x: -x["rate"])  # fastest first
+        row = dict(rr[len(rr) // 2], rounds=len(rr), spread=rr[0]["rate"] / rr[-1]["rate"] - 1,
+                   other=max(x["other"] for x in rr))
+        rows.setdefault(th, []).append(row)
 print("cost against particle count (box_settle bed, box scaled in x and y at constant depth)")
-print("\ngrainscale")
+print("\ngrainscale (each size timed in every round; per size the median round (of an even number, the slower")
+print(" middle one), the spread of the rounds (slowest time / fastest - 1) and the most other load seen in any round)")
 for th in sorted(rows):
     print(f"\n{th} thread(s):")
-    print(f"{'N':>9} {'steps':>6} {'s':>8} {'M sph-st/s':>10} {'ns/sph-st':>9} {'contacts/sph':>12} {'entries/sph':>11} "
-          f"{'steps/build':>11} {'KE/sph J':>9} {'B/sphere':>8} {'RSS B/sph':>9} {'peak RSS MiB':>12} {'other load':>10}")
+    print(f"{'N':>9} {'steps':>6} {'s':>8} {'M sph-st/s':>10} {'ns/sph-st':>9} {'rounds':>6} {'spread':>6} {'contacts/sph':>12} "
+          f"{'entries/sph':>11} {'steps/build':>11} {'KE/sph J':>9} {'B/sphere':>8} {'RSS B/sph':>9} {'peak RSS MiB':>12} "
+          f"{'other load':>10}")
     for r in rows[th]:
-        print(f"{r['n']:>9} {r['steps']:>6} {r['s']:8.2f} {r['rate'] / 1e6:10.3f} {1e9 / r['rate']:9.1f} {r['cps']:12.2f} "
-              f"{r['entries']:11.2f} {r['per_build']:11.0f} {r['ke']:9.2e} {r['b']:8.0f} {r['resident']:9.0f} "
-              f"{r['rss'] / 2**20:12.0f} {r['other']:>10}")
-    if len(rows[th]) > 1:
-        print(verdict([(r["n"], r["rate"]) for r in rows[th]], lambda x: 1 / x[1]))
+        print(f"{r['n']:>9} {r['steps']:>6} {r['s']:8.2f} {r['rate'] / 1e6:10.3f} {1e9 / r['rate']:9.1f} {r['rounds']:6d} "
+              f"{100 * r['spread']:5.0f}% {r['cps']:12.2f} {r['entries']:11.2f} {r['per_build']:11.0f} {r['ke']:9.2e} "
+              f"{r['b']:8.0f} {r['resident']:9.0f} {r['rss'] / 2**20:12.0f} {r['other']:10.2f}")
+    done = [n for n in sizes if n in runs[th]]
+    rounds = min(len(runs[th][n]) for n in done)
+    if len(done) > 1:
+        print(verdict([[(n, 1e9 / runs[th][n][k]["rate"]) for n in done] for k in range(rounds)]))
 
 lig = {}
 for n in sizes:
@@ -196,7 +236,7 @@ if lig:
             print(f"{r['n']:>9} {r['steps']:>6} {r['s']:8.2f} {r['rate'] / 1e6:10.3f} {1e9 / r['rate']:9.1f} {r['cps']:12.2f} "
                   f"{r['ke']:9.2e} {r['rss'] / 2**20:12.0f} {r['other']:>10} {(g['rate'] / r['rate'] if g else float('nan')):22.2f}")
         if len(lig[np]) > 1:
-            print(verdict([(r["n"], r["rate"]) for r in lig[np]], lambda x: 1 / x[1]))
+            print(verdict([[(r["n"], 1e9 / r["rate"]) for r in lig[np]]]))
 
 print("\n(contacts/sph: sphere-sphere contacts per sphere in the settled bed; the beds are comparable when it is")
 print(" about the same for every N. entries/sph: neighbour-list entries per sphere at the end (grainscale's adaptive")
