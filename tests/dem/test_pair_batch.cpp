@@ -151,9 +151,14 @@ TEST_CASE("A sphere with more contacts than a batch holds gets the one-at-a-time
   INFO("most entries owned by one sphere: " << most);
   REQUIRE(most > 2 * PairBatch<ConstantTorqueRolling>::kCapacity);
 
+  // Pass 1 has two entry loops (entry by entry for beds in the caches; a chunk's distance tests, then
+  // its contacts, for beds beyond): both must give these numbers.
+  const std::size_t beyond_cache_from = GENERATE(ForceField::kBeyondCacheSpheres, std::size_t{0});
+  INFO("pass 1's chunked loop from " << beyond_cache_from << " spheres (" << p.size() << " here)");
   ForceField ff;
   const std::vector<Wall> walls;
   ff.setup(materials, walls, RollingSettings{});
+  ff.set_beyond_cache_spheres(beyond_cache_from);
   ff.compute(p, nl, walls, dt);
 
   // The loop as it was, one contact at a time.
@@ -204,4 +209,33 @@ TEST_CASE("A sphere with more contacts than a batch holds gets the one-at-a-time
   }
   for (std::size_t r = 0; r < touching.size(); ++r) contacts += touching[r];
   CHECK(contacts > 2 * PairBatch<ConstantTorqueRolling>::kCapacity);
+
+  // And the same histories as the other loop: updated where touching, cleared where a loaded spring's
+  // pair is apart (contact broken), over two steps (the second starts from the flags the first left).
+  Particles q = p;
+  NeighborList other = before;
+  ForceField ff_other;
+  ff_other.setup(materials, walls, RollingSettings{});
+  ff_other.set_beyond_cache_spheres(beyond_cache_from == 0 ? ForceField::kBeyondCacheSpheres : 0);
+  ff_other.compute(q, other, walls, dt);
+  int cleared = 0;
+  for (int step = 0; step < 2; ++step) {
+    if (step == 1) {
+      for (std::size_t i = 0; i < n; ++i) p.x[i] += dt * p.v[i], q.x[i] += dt * q.v[i];
+      ff.compute(p, nl, walls, dt);
+      ff_other.compute(q, other, walls, dt);
+    }
+    for (std::uint32_t k = 0; k < nl.entries(); ++k) {
+      INFO("step " << step << ", entry " << k);
+      CHECK(same_bits(nl.history(k).shear, other.history(k).shear));
+      CHECK(same_bits(nl.history(k).rolling, other.history(k).rolling));
+      if (step == 0) cleared += norm2(before.history(k).shear) != 0 && norm2(nl.history(k).shear) == 0;
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+      CHECK(same_bits(p.force[i], q.force[i]));
+      CHECK(same_bits(p.torque[i], q.torque[i]));
+    }
+  }
+  INFO(cleared << " loaded springs of pairs apart cleared");
+  CHECK(cleared > 0);
 }
