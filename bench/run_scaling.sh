@@ -136,7 +136,7 @@ if [[ "$WITH_LIGGGHTS" != 0 ]]; then
 fi
 
 python3 - "$OUT" "${ran[@]}" <<'PY' | tee "$OUT/results.txt"
-import re, sys
+import glob, re, sys
 out, sizes = sys.argv[1], [int(s) for s in sys.argv[2:]]
 
 def load(log):
@@ -156,13 +156,8 @@ def verdict(per_round):  # per_round: one list per round of (N, ns per sphere-st
 
 runs = {}  # runs[threads][N] = one dict per round
 for n in sizes:
-    r = 1
-    while True:
-        log = f"{out}/timed_{n}_r{r}.log"
-        try:
-            t = open(log).read()
-        except OSError:
-            break
+    for log in sorted(glob.glob(f"{out}/timed_{n}_r*.log"), key=lambda f: int(re.search(r"_r(\d+)\.log$", f).group(1))):
+        t = open(log).read()
         p = re.search(r"^problem: .*?, (\d+) spheres, dt = (\S+) s, settled for (\S+) s, (\d+) contacts, (\d+) wall contacts", t, re.M)
         mem = re.search(r"^memory: ([0-9.]+) bytes per sphere", t, re.M)
         res = re.search(r"^resident: ([0-9.]+) bytes per sphere", t, re.M)
@@ -180,7 +175,6 @@ for n in sizes:
                 per_build=int(m.group(2)) / max(1, int(m.group(5))),
                 ke=float(end.group(1)) / ns if end else float("nan"),
                 entries=float(lst.group(2)) if lst else float("nan")))
-        r += 1
 rows = {}  # rows[threads]: per size, the median round (of an even number, the slower middle one)
 for th, by_n in runs.items():
     for n in sizes:
