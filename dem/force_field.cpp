@@ -19,7 +19,7 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 // the next rows of cells stream from memory and the hardware prefetchers, with a dozen arrays to
 // follow at two or three distances each, miss them (10^5 spheres: +5-15 %). In beds that fit the
 // caches the prefetches only cost (10^4 spheres -4 %, the clump bed -2 %), hence the threshold:
-// 10^4 spheres (16 MB) fit a 32 MiB L3, 10^5 (160 MB) do not (ForceField::kBeyondCacheSpheres, which
+// 10^4 spheres (16 MB) fit a 32 MiB L3, 10^5 (160 MB) do not (beyond_cache_spheres(), which
 // also picks pass 1's entry loop: see there).
 constexpr std::size_t kPrefetchEntries = 24;
 constexpr std::size_t kPassBlock = 64;  // spheres per block in both passes (guided: chunks of 2 or more)
@@ -249,7 +249,7 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
   std::uint8_t *const touching = touching_.data(), *const partner_touching = partner_touching_.data();
   Vec3 *const force = p.force.data(), *const torque = p.torque.data();
   const std::size_t blocks = (n + kPassBlock - 1) / kPassBlock;
-  const bool beyond_cache = n >= beyond_cache_spheres_;
+  const bool beyond_cache = n >= beyond_cache_spheres();
   // Entry k (owner i, partner j, d = x_i - x_j) touches: its pair goes into the batch's slot b.
   auto gather = [&](PairBatch<Rolling>& batch, int b, std::uint32_t k, std::uint32_t i, std::uint32_t j, Vec3 d,
                     double dist2, double rsum, double ri, Vec3 vi, Vec3 wi, double mass_i, double inertia_i, int row) {

@@ -61,16 +61,20 @@ struct ContactModels {
   std::vector<typename Rolling::Params> rolling;
 };
 
+/// Beds of this many spheres or more are taken to be beyond the caches: pass 1 then prefetches
+/// partners and tests a chunk of entries before gathering its contacts (dem/force_field.cpp). Either
+/// loop gives the same numbers, bit for bit; tests set 0 to run the chunked one on small beds (as
+/// parallel_min_items, dem/parallel.hpp, makes small loops parallel).
+inline std::size_t& beyond_cache_spheres() {
+  static std::size_t spheres = 50000;
+  return spheres;
+}
+
 class ForceField {
  public:
   static constexpr int kWallSlots = WallSlots::kSlots;
 
   void setup(const MaterialTable& materials, const std::vector<Wall>& walls, const RollingSettings& rolling);
-  /// Beds of this many spheres or more are taken to be beyond the caches: pass 1 then prefetches
-  /// partners and tests a chunk of entries before gathering its contacts (dem/force_field.cpp).
-  /// Either loop gives the same numbers, bit for bit; tests set 0 to run the chunked one on a small bed.
-  static constexpr std::size_t kBeyondCacheSpheres = 50000;
-  void set_beyond_cache_spheres(std::size_t spheres) { beyond_cache_spheres_ = spheres; }
   ForceDiagnostics compute(Particles& p, NeighborList& nl, const std::vector<Wall>& walls, double dt);
   /// Renumber the per-particle wall histories with the particles.
   void permute(const std::vector<std::uint32_t>& new_to_old);
@@ -156,7 +160,6 @@ class ForceField {
   // Both rebuilt from the histories when the list changes (generation).
   std::vector<std::uint8_t> touching_, partner_touching_;
   std::uint64_t list_generation_ = ~std::uint64_t{0};
-  std::size_t beyond_cache_spheres_ = kBeyondCacheSpheres;
   // near_walls_[i] bit w: wall w (w < kMaskedWalls) may touch sphere i before the masks are made
   // again: at each list build, and when a wall has moved further than its margin (find_near_walls
   // says how). The profile had a box wall's distance test at 4 % of a settled clump bed, and a moving

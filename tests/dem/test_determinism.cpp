@@ -5,6 +5,7 @@
 #include <catch2/catch.hpp>
 
 #include "parallel_everything.hpp"
+#include "pass_one_loop.hpp"
 #include <cstring>
 #include <memory>
 #include <vector>
@@ -38,6 +39,10 @@ std::vector<double> settle(int threads, RollingModel model) {
 TEST_CASE("A run is bitwise identical on 1 and 2 threads", "[dem][determinism]") {
   const testing::ParallelEverything guard;  // every loop parallel, however small
   const RollingModel model = GENERATE(RollingModel::constant_torque, RollingModel::epsd);
+  // Both of pass 1's entry loops (the chunked one is taken by beds beyond the caches).
+  const bool chunked = GENERATE(false, true);
+  INFO("pass 1's " << (chunked ? "chunked" : "entry-by-entry") << " loop");
+  const testing::PassOneLoop loop(chunked);
   const auto one = settle(1, model);
   const auto two = settle(2, model);
   REQUIRE(one.size() == two.size());

@@ -18,6 +18,7 @@
 
 #include "batch_test_support.hpp"
 #include "list_fixture.hpp"
+#include "pass_one_loop.hpp"
 
 using namespace grainscale::dem;
 using grainscale::dem::testing::rolling_params;
@@ -153,13 +154,16 @@ TEST_CASE("A sphere with more contacts than a batch holds gets the one-at-a-time
 
   // Pass 1 has two entry loops (entry by entry for beds in the caches; a chunk's distance tests, then
   // its contacts, for beds beyond): both must give these numbers.
-  const std::size_t beyond_cache_from = GENERATE(ForceField::kBeyondCacheSpheres, std::size_t{0});
-  INFO("pass 1's chunked loop from " << beyond_cache_from << " spheres (" << p.size() << " here)");
-  ForceField ff;
+  const bool chunked = GENERATE(false, true);
+  INFO("pass 1's " << (chunked ? "chunked" : "entry-by-entry") << " loop");
   const std::vector<Wall> walls;
+  auto compute = [&](ForceField& f, Particles& q, NeighborList& l, bool chunked_loop) {
+    const grainscale::dem::testing::PassOneLoop loop(chunked_loop);
+    f.compute(q, l, walls, dt);
+  };
+  ForceField ff;
   ff.setup(materials, walls, RollingSettings{});
-  ff.set_beyond_cache_spheres(beyond_cache_from);
-  ff.compute(p, nl, walls, dt);
+  compute(ff, p, nl, chunked);
 
   // The loop as it was, one contact at a time.
   const HertzMindlin::Params hm = HertzMindlin::make(materials[m], materials[m], materials.pair(m, m));
@@ -216,14 +220,13 @@ TEST_CASE("A sphere with more contacts than a batch holds gets the one-at-a-time
   NeighborList other = before;
   ForceField ff_other;
   ff_other.setup(materials, walls, RollingSettings{});
-  ff_other.set_beyond_cache_spheres(beyond_cache_from == 0 ? ForceField::kBeyondCacheSpheres : 0);
-  ff_other.compute(q, other, walls, dt);
+  compute(ff_other, q, other, !chunked);
   int cleared = 0;
   for (int step = 0; step < 2; ++step) {
     if (step == 1) {
       for (std::size_t i = 0; i < n; ++i) p.x[i] += dt * p.v[i], q.x[i] += dt * q.v[i];
-      ff.compute(p, nl, walls, dt);
-      ff_other.compute(q, other, walls, dt);
+      compute(ff, p, nl, chunked);
+      compute(ff_other, q, other, !chunked);
     }
     for (std::uint32_t k = 0; k < nl.entries(); ++k) {
       INFO("step " << step << ", entry " << k);
