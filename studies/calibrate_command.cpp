@@ -15,7 +15,6 @@
 
 #include "dem/atomic_file.hpp"
 #include "dem/input_error.hpp"
-#include "studies/option_number.hpp"
 #include "dem/material.hpp"
 #include "dem/simulation.hpp"
 #include "grainscale_version.hpp"
@@ -25,6 +24,7 @@
 #include "studies/aor_search.hpp"
 #include "studies/aor_sensitivity_plot.hpp"
 #include "studies/aor_study.hpp"
+#include "studies/option_number.hpp"
 
 namespace grainscale::studies {
 

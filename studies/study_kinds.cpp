@@ -3,12 +3,12 @@
 #include <cstdio>
 
 #include "dem/input_error.hpp"
-#include "studies/option_number.hpp"
 #include "dem/yaml_map.hpp"
 #include "studies/trial_planning_study.hpp"
 #include "studies/ensemble_run.hpp"
 #include "studies/hold_study.hpp"
 #include "studies/loop_study.hpp"
+#include "studies/option_number.hpp"
 
 namespace grainscale::studies {
 
