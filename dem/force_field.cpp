@@ -24,10 +24,10 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr std::size_t kPrefetchEntries = 24;
 // Pass 2 fetches the state and wall slots of the sphere kWallPrefetchSpheres ahead, in the same
 // beds: the wall contacts read them for over a third of the spheres (the 10^5 bed's floor layer:
-// 36,742 wall contacts), beside a dozen other arrays that pass 2 streams, and waited for them (perf, 10^5 bed: the
-// function's top samples on its loads of x, v, omega and the old slots). In-process A/B, 1 thread:
-// 10^5 bed +3.3 / +5.4 %, the poured 2x platform box +6.9 / +7.9 %; 16 ahead about as good, 32 worse;
-// only for spheres with walls in reach: level.
+// 36,742 wall contacts), beside a dozen other arrays that pass 2 streams, and waited for them
+// (perf, 10^5 bed: the function's top samples on its loads of x, v, omega and the old slots).
+// In-process A/B, 1 thread: 10^5 bed +3.3 / +5.4 %, the poured 2x platform box +6.9 / +7.9 %;
+// 16 ahead about as good, 32 worse; only for spheres with walls in reach: level.
 constexpr std::size_t kWallPrefetchSpheres = 8;
 constexpr std::size_t kPassBlock = 64;  // spheres per block in both passes (guided: chunks of 2 or more)
 
