@@ -14,14 +14,17 @@ namespace grainscale::dem {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-// Pass 1 fetches the partner of the entry kPrefetchEntries ahead (its position, radius, velocities,
-// and the partner share it will write) in beds too large for the caches: there its neighbours in
+// Pass 1 fetches the partner of the entry kPrefetchEntries ahead (its position, radius and
+// velocities) in beds too large for the caches: there its neighbours in
 // the next rows of cells stream from memory and the hardware prefetchers, with a dozen arrays to
 // follow at two or three distances each, miss them (10^5 spheres: +5-15 %). In beds that fit the
 // caches the prefetches only cost (10^4 spheres -4 %, the clump bed -2 %), hence the threshold:
 // 10^4 spheres (16 MB) fit a 32 MiB L3, 10^5 (160 MB) do not (beyond_cache_spheres(), which
 // also picks pass 1's entry loop: see there).
 constexpr std::size_t kPrefetchEntries = 24;
+// Pass 2 fetches the partner share (and its flag) kSharePrefetch reverse positions ahead, in the
+// same beds: it reads them scattered, as pass 1 stores them in entry order (see there).
+constexpr std::size_t kSharePrefetch = 16;
 // Pass 2 fetches the state and wall slots of the sphere kWallPrefetchSpheres ahead, in the same
 // beds: the wall contacts read them for over a third of the spheres (the 10^5 bed's floor layer:
 // 36,742 wall contacts), beside a dozen other arrays that pass 2 streams, and waited for them
@@ -190,8 +193,8 @@ void ForceField::flush_pairs(PairBatch<Rolling>& b, double dt, Particles& p, Nei
   // The open sums and the maxima in locals, the arrays as plain pointers. Through `open` every +=
   // went to memory (it may alias the arrays), and storing the complete sums read them back 16
   // bytes at a time over 8-byte stores: a failed store-to-load forward, which waits until every
-  // older store has reached the cache, the partner shares scattered beyond it among them (perf,
-  // the 10^5 bed: 62 % of this function's samples on that load). In-process A/B: 10^5 bed +2.8 /
+  // older store has reached the cache (perf, the 10^5 bed, when the partner shares were stored
+  // scattered, by reverse position: 62 % of this function's samples on that load). In-process A/B: 10^5 bed +2.8 /
   // +5.3 / +6.3 % (1 thread), the clump bed level (+1.3 / -1.0 %); the same numbers bit for bit.
   std::size_t slot = open.slot;
   Vec3 sum_force = open.force, sum_torque = open.torque;
@@ -208,7 +211,7 @@ void ForceField::flush_pairs(PairBatch<Rolling>& b, double dt, Particles& p, Nei
     }
     sum_force += Vec3{b.fx[c], b.fy[c], b.fz[c]};
     sum_torque += Vec3{b.tix[c], b.tiy[c], b.tiz[c]};
-    share[b.rev[c]] = {{b.fx[c], b.fy[c], b.fz[c]}, {b.tjx[c], b.tjy[c], b.tjz[c]}};
+    share[b.entry[c]] = {{b.fx[c], b.fy[c], b.fz[c]}, {b.tjx[c], b.tjy[c], b.tjz[c]}};
     shear[b.entry[c]] = {b.sx[c], b.sy[c], b.sz[c]};
     if constexpr (Rolling::kSpring) rolling[b.entry[c]] = {b.rx[c], b.ry[c], b.rz[c]};
     worst = std::max(worst, b.overlap_ratio[c]);
@@ -236,10 +239,8 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
   if (list_generation_ != nl.generation() || touching_.size() != entries) {
     // A new list: flag every entry whose carried-over history is non-zero (then cleared if apart).
     touching_.resize(entries);
-    partner_touching_.resize(entries);
     for (std::uint32_t k = 0; k < entries; ++k) {
       touching_[k] = norm2(nl.shear(k)) != 0 || (Rolling::kSpring && norm2(nl.rolling(k)) != 0);
-      partner_touching_[nl.rev_position(k)] = touching_[k];
     }
     list_generation_ = nl.generation();
     find_near_walls(p, walls, nl, true);
@@ -251,8 +252,13 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
   double worst_ratio = 0, stiff_pair = 0;  // stiff_*: max S_n / m* (for the omega dt monitor)
 
   // Pass 1: every pair once, by its owner i. The owner's share is summed here, in entry order; the
-  // partner's share is stored at the entry's place in the partner's reverse range, so that pass 2
-  // reads it in order (a scattered write here instead of a scattered read there). The entry loop
+  // partner's share is stored by entry, and pass 2 gathers each sphere's through its reverse range.
+  // (Until 2026-12-05 it was stored at the entry's place in the partner's reverse range, with the
+  // contact flag there too, so that pass 2 read both in order: two scattered stores per entry here,
+  // a store of the flag for every entry, touching or not. A store that misses holds up every store
+  // behind it, while scattered loads, fetched ahead, overlap: in-process A/B, 1 thread, 10^5 bed
+  // +2.8 / +7.1 / +4.4 / +2.5 %, 10^4 bed +0.1 / +2.8 %, the clump bed and the poured 2x platform box
+  // level; the same numbers bit for bit, and one byte less per entry.) The entry loop
   // only finds the touching pairs and gathers them into a batch per thread; a full batch is evaluated
   // at once, vectorised, then summed and stored (dem/pair_batch.hpp; the same numbers as one contact
   // at a time). A sphere's sums stay open across a batch that ends inside its entries.
@@ -266,9 +272,9 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
   const double *const radius = p.radius.data(), *const mass = p.mass.data(), *const inertia = p.inertia.data();
   const std::int32_t* const material = p.material.data();
   const std::uint32_t *const start = nl.starts().data(), *const partner = nl.partners().data();
-  const std::uint32_t *const owner = nl.owners().data(), *const rev_position = nl.rev_positions().data();
+  const std::uint32_t* const owner = nl.owners().data();
   Vec3 *const shear = nl.shear_data(), *const rolling = nl.rolling_data();
-  std::uint8_t *const touching = touching_.data(), *const partner_touching = partner_touching_.data();
+  std::uint8_t* const touching = touching_.data();
   Vec3 *const force = p.force.data(), *const torque = p.torque.data();
   const std::size_t blocks = (n + kPassBlock - 1) / kPassBlock;
   const bool beyond_cache = n >= beyond_cache_spheres();
@@ -291,7 +297,7 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
       const Vec3 rs = rolling[k];
       batch.rx[b] = rs.x, batch.ry[b] = rs.y, batch.rz[b] = rs.z;
     }
-    batch.owner[b] = i, batch.entry[b] = k, batch.rev[b] = rev_position[k];
+    batch.owner[b] = i, batch.entry[b] = k;
   };
   // The partner of the entry kPrefetchEntries ahead, in beds too large for the caches.
   auto prefetch_ahead = [&](std::uint32_t k) {
@@ -299,7 +305,6 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
     const std::uint32_t ahead = partner[k + kPrefetchEntries];
     __builtin_prefetch(&x[ahead]), __builtin_prefetch(&radius[ahead]);
     __builtin_prefetch(&v[ahead]), __builtin_prefetch(&omega[ahead]);
-    __builtin_prefetch(&partner_share_[rev_position[k + kPrefetchEntries]], 1);
   };
   // What sphere a's wall contacts will read, ahead of them (pass 2, in beds too large for the caches).
   auto prefetch_sphere = [&](std::size_t a) {
@@ -339,12 +344,10 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
               shear[k] = {};
               if constexpr (Rolling::kSpring) rolling[k] = {};
               touching[k] = 0;
-              partner_touching[rev_position[k]] = 0;
             }
             continue;
           }
           touching[k] = 1;
-          partner_touching[rev_position[k]] = 1;
           ++contacts;
           gather(batch, b, k, i, j, d, dist2, rsum, ri, vi, wi, mass_i, inertia_i, row);
           if (++b == PairBatch<Rolling>::kCapacity) {
@@ -379,7 +382,6 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
             found += now;
             broken |= touching[k] & (now ^ 1);
             touching[k] = now;
-            partner_touching[rev_position[k]] = now;
           }
           if (broken) {  // contacts broken: histories start afresh (an entry apart holds none)
             for (std::uint32_t k = first; k < end; ++k) {
@@ -421,6 +423,7 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
   std::int64_t overflow = std::numeric_limits<std::int64_t>::max();
   double worst_wall = 0, stiff_wall = 0;
   const std::uint32_t *const rev_start = nl.rev_starts().data(), *const rev_owner = nl.rev_owners().data();
+  const std::uint32_t* const rev_entry = nl.rev_entries().data();
   const PartnerShare* const share = partner_share_.data();
   const std::uint8_t* const before_count = wall_slots_.before_counts();
   std::uint8_t* const count = wall_slots_.counts();
@@ -434,12 +437,18 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
       const std::size_t lo = block * kPassBlock, hi = std::min(n, lo + kPassBlock);
       // The partner shares, walked by reverse position as pass 1 walks entries (most spheres of a
       // settled bed have none: no per-sphere branch on it); each sphere's in reverse-range order,
-      // added to what pass 1 stored: the sums a loop per sphere takes.
+      // added to what pass 1 stored: the sums a loop per sphere takes. A share is current if its
+      // entry is touching (pass 1 wrote both).
       for (std::uint32_t r = rev_start[lo], last = rev_start[hi]; r < last; ++r) {
-        if (!partner_touching[r]) continue;
+        if (beyond_cache && r + kSharePrefetch < entries) {
+          const std::uint32_t ahead = rev_entry[r + kSharePrefetch];
+          __builtin_prefetch(&touching[ahead]), __builtin_prefetch(&share[ahead]);
+        }
+        const std::uint32_t k = rev_entry[r];
+        if (!touching[k]) continue;
         const std::uint32_t i = rev_owner[r];
-        force[i] -= share[r].force;
-        torque[i] += share[r].torque;
+        force[i] -= share[k].force;
+        torque[i] += share[k].torque;
       }
       for (std::size_t i = lo; i < hi; ++i) {
         if (beyond_cache && i + kWallPrefetchSpheres < n) prefetch_sphere(i + kWallPrefetchSpheres);
@@ -611,7 +620,7 @@ ContactEnergy ForceField::contact_energy(const Particles& p, const NeighborList&
 }
 
 std::size_t ForceField::bytes() const {
-  return partner_share_.capacity() * sizeof(PartnerShare) + touching_.capacity() + partner_touching_.capacity() +
+  return partner_share_.capacity() * sizeof(PartnerShare) + touching_.capacity() +
          near_walls_.capacity() * sizeof(std::uint32_t) +
          wall_slots_.bytes();
 }

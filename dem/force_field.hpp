@@ -4,10 +4,10 @@
 // contact/rolling model pair; models are small evaluator structs in dem/contact/.
 //
 // Pass 1 runs over neighbour-list entries (owner slot in parallel): it sums the owner's share of
-// its contacts and stores the partner's share at the entry's place in the partner's reverse range;
+// its contacts and stores the partner's share by entry;
 // the touching pairs it finds are evaluated in batches, vectorised (dem/pair_batch.hpp), with the
 // same numbers as one at a time. Pass 2 runs over spheres and adds, in that fixed order, the partner
-// shares and the wall contacts.
+// shares (through the sphere's reverse range of entries) and the wall contacts.
 // Most entries of a bed are not in contact (the skin): a one-byte flag per entry says which shares
 // are current, so pass 1 writes nothing and pass 2 reads nothing for them (the per-entry traffic
 // bounded the step: docs/performance.md). No two threads write the same memory, so results are
@@ -148,17 +148,16 @@ class ForceField {
 
   AnyModels models_;
   std::vector<int> wall_material_;
-  /// What a pair contact puts on its partner j: -force and torque (indexed by reverse position).
+  /// What a pair contact puts on its partner j: -force and torque (indexed by entry).
   struct PartnerShare {
     Vec3 force, torque;
   };
   std::vector<PartnerShare> partner_share_;
   // touching_[k]: entry k was in contact at the last compute, so its history may be non-zero and
-  // partner_share_[rev_position(k)] is current; partner_touching_ is the same flag at the reverse
-  // position. Invariant: touching_[k] == 0 implies a zero history, so a pair that stays apart costs
-  // no writes to its history (pass 1's loop for beds in the caches writes nothing for it at all).
-  // Both rebuilt from the histories when the list changes (generation).
-  std::vector<std::uint8_t> touching_, partner_touching_;
+  // partner_share_[k] is current. Invariant: touching_[k] == 0 implies a zero history, so a pair
+  // that stays apart costs no writes to its history (pass 1's loop for beds in the caches writes
+  // nothing for it at all). Rebuilt from the histories when the list changes (generation).
+  std::vector<std::uint8_t> touching_;
   std::uint64_t list_generation_ = ~std::uint64_t{0};
   // near_walls_[i] bit w: wall w (w < kMaskedWalls) may touch sphere i before the masks are made
   // again: at each list build, and when a wall has moved further than its margin (find_near_walls

@@ -38,8 +38,8 @@ struct PairBatch {
   // In and out: the contact's history (ContactHistory, one array per component; the rolling spring
   // r* only for models with one, Rolling::kSpring: for the others it is neither filled nor read).
   alignas(64) double sx[kCapacity], sy[kCapacity], sz[kCapacity], rx[kCapacity], ry[kCapacity], rz[kCapacity];
-  // Where it goes: owner slot, neighbour entry, the entry's place in the partner's reverse range.
-  std::uint32_t owner[kCapacity], entry[kCapacity], rev[kCapacity];
+  // Where it goes: owner slot, neighbour entry (the history's and the partner share's place).
+  std::uint32_t owner[kCapacity], entry[kCapacity];
   // Out: force on i, i's torque share (its rolling torque plus lever x tangential force), j's.
   alignas(64) double fx[kCapacity], fy[kCapacity], fz[kCapacity];
   alignas(64) double tix[kCapacity], tiy[kCapacity], tiz[kCapacity];

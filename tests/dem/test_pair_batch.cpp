@@ -98,7 +98,7 @@ TEMPLATE_TEST_CASE("A vectorised batch of pair contacts gives one contact at a t
     b.sx[k] = s * u(rng), b.sy[k] = s * u(rng), b.sz[k] = s * u(rng);
     const double m = k % 2 ? 0.0 : 1e-6;
     b.rx[k] = m * u(rng), b.ry[k] = m * u(rng), b.rz[k] = m * u(rng);
-    b.owner[k] = b.entry[k] = b.rev[k] = static_cast<std::uint32_t>(k);
+    b.owner[k] = b.entry[k] = static_cast<std::uint32_t>(k);
   }
   std::vector<OneContact> expected;
   for (int k = 0; k < b.size; ++k) expected.push_back(one_contact(b, k, dt));
