@@ -23,7 +23,8 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 // also picks pass 1's entry loop: see there).
 constexpr std::size_t kPrefetchEntries = 24;
 // Pass 2 fetches the partner share (and its flag) kSharePrefetch reverse positions ahead, in the
-// same beds: it reads them scattered, as pass 1 stores them in entry order (see there).
+// same beds: it reads them scattered, as pass 1 stores them in entry order (see there). In-process
+// A/B, 10^5 bed, 1 thread: without it -1.0 / -6.6 %; 32 ahead level.
 constexpr std::size_t kSharePrefetch = 16;
 // Pass 2 fetches the state and wall slots of the sphere kWallPrefetchSpheres ahead, in the same
 // beds: the wall contacts read them for over a third of the spheres (the 10^5 bed's floor layer:
