@@ -254,12 +254,12 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
 
   // Pass 1: every pair once, by its owner i. The owner's share is summed here, in entry order; the
   // partner's share is stored by entry, and pass 2 gathers each sphere's through its reverse range.
-  // (Until 2026-12-05 it was stored at the entry's place in the partner's reverse range, with the
-  // contact flag there too, so that pass 2 read both in order: two scattered stores per entry here,
-  // a store of the flag for every entry, touching or not. A store that misses holds up every store
-  // behind it, while scattered loads, fetched ahead, overlap: in-process A/B, 1 thread, 10^5 bed
-  // +2.8 / +7.1 / +4.4 / +2.5 %, 10^4 bed +0.1 / +2.8 %, the clump bed and the poured 2x platform box
-  // level; the same numbers bit for bit, and one byte less per entry.) The entry loop
+  // (Until the night of 2026-12-04 it was stored at the entry's place in the partner's reverse
+  // range, with the contact flag there too, so that pass 2 read both in order: two scattered stores
+  // per entry here, the flag's for every entry, touching or not. A store that misses holds up every
+  // store behind it, while scattered loads, fetched ahead, overlap: in-process A/B, 1 thread, 10^5
+  // bed +2.8 / +7.1 / +4.4 / +2.5 %, 10^4 bed +0.1 / +2.8 %, the clump bed and the poured 2x
+  // platform box level; the same numbers bit for bit, and one byte less per entry.) The entry loop
   // only finds the touching pairs and gathers them into a batch per thread; a full batch is evaluated
   // at once, vectorised, then summed and stored (dem/pair_batch.hpp; the same numbers as one contact
   // at a time). A sphere's sums stay open across a batch that ends inside its entries.
