@@ -15,9 +15,9 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 // Pass 1 fetches the partner of the entry kPrefetchEntries ahead (its position, radius and
-// velocities) in beds too large for the caches: there its neighbours in
-// the next rows of cells stream from memory and the hardware prefetchers, with a dozen arrays to
-// follow at two or three distances each, miss them (10^5 spheres: +5-15 %). In beds that fit the
+// velocities) in beds too large for the caches: there its neighbours in the next rows of cells
+// stream from memory and the hardware prefetchers, with a dozen arrays to follow at two or three
+// distances each, miss them (10^5 spheres: +5-15 %). In beds that fit the
 // caches the prefetches only cost (10^4 spheres -4 %, the clump bed -2 %), hence the threshold:
 // 10^4 spheres (16 MB) fit a 32 MiB L3, 10^5 (160 MB) do not (beyond_cache_spheres(), which
 // also picks pass 1's entry loop: see there).
@@ -195,8 +195,9 @@ void ForceField::flush_pairs(PairBatch<Rolling>& b, double dt, Particles& p, Nei
   // went to memory (it may alias the arrays), and storing the complete sums read them back 16
   // bytes at a time over 8-byte stores: a failed store-to-load forward, which waits until every
   // older store has reached the cache (perf, the 10^5 bed, when the partner shares were stored
-  // scattered, by reverse position: 62 % of this function's samples on that load). In-process A/B: 10^5 bed +2.8 /
-  // +5.3 / +6.3 % (1 thread), the clump bed level (+1.3 / -1.0 %); the same numbers bit for bit.
+  // scattered, by reverse position: 62 % of this function's samples on that load). In-process A/B:
+  // 10^5 bed +2.8 / +5.3 / +6.3 % (1 thread), the clump bed level (+1.3 / -1.0 %); the same numbers
+  // bit for bit.
   std::size_t slot = open.slot;
   Vec3 sum_force = open.force, sum_torque = open.torque;
   double worst = worst_ratio, stiff = stiff_pair;

@@ -4,12 +4,12 @@
 // contact/rolling model pair; models are small evaluator structs in dem/contact/.
 //
 // Pass 1 runs over neighbour-list entries (owner slot in parallel): it sums the owner's share of
-// its contacts and stores the partner's share by entry;
-// the touching pairs it finds are evaluated in batches, vectorised (dem/pair_batch.hpp), with the
-// same numbers as one at a time. Pass 2 runs over spheres and adds, in that fixed order, the partner
-// shares (through the sphere's reverse range of entries) and the wall contacts.
+// its contacts and stores the partner's share by entry; the touching pairs it finds are evaluated
+// in batches, vectorised (dem/pair_batch.hpp), with the same numbers as one at a time. Pass 2 runs
+// over spheres and adds, in that fixed order, the partner shares (through the sphere's reverse range
+// of entries) and the wall contacts.
 // Most entries of a bed are not in contact (the skin): a one-byte flag per entry says which shares
-// are current, so pass 1 writes nothing and pass 2 reads nothing for them (the per-entry traffic
+// are current, so passes 1 and 2 touch nothing but that flag for them (the per-entry traffic
 // bounded the step: docs/performance.md). No two threads write the same memory, so results are
 // bitwise identical for any thread count.
 #include <cstdint>
