@@ -308,13 +308,6 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
     __builtin_prefetch(&x[ahead]), __builtin_prefetch(&radius[ahead]);
     __builtin_prefetch(&v[ahead]), __builtin_prefetch(&omega[ahead]);
   };
-  // What sphere a's wall contacts will read, ahead of them (pass 2, in beds too large for the caches).
-  auto prefetch_sphere = [&](std::size_t a) {
-    __builtin_prefetch(&x[a]), __builtin_prefetch(&v[a]), __builtin_prefetch(&omega[a]);
-    __builtin_prefetch(&radius[a]), __builtin_prefetch(&mass[a]), __builtin_prefetch(&inertia[a]);
-    __builtin_prefetch(&material[a]);
-    __builtin_prefetch(wall_slots_.before(a)), __builtin_prefetch(wall_slots_.now(a), 1);
-  };
 #pragma omp parallel if(n >= parallel_min_items()) reduction(+ : contacts) reduction(max : worst_ratio, stiff_pair)
   {
     PairBatch<Rolling> batch;
@@ -429,6 +422,13 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
   const PartnerShare* const share = partner_share_.data();
   const std::uint8_t* const before_count = wall_slots_.before_counts();
   std::uint8_t* const count = wall_slots_.counts();
+  // What sphere a's wall contacts will read, ahead of them (in beds too large for the caches).
+  auto prefetch_sphere = [&](std::size_t a) {
+    __builtin_prefetch(&x[a]), __builtin_prefetch(&v[a]), __builtin_prefetch(&omega[a]);
+    __builtin_prefetch(&radius[a]), __builtin_prefetch(&mass[a]), __builtin_prefetch(&inertia[a]);
+    __builtin_prefetch(&material[a]);
+    __builtin_prefetch(wall_slots_.before(a)), __builtin_prefetch(wall_slots_.now(a), 1);
+  };
 #pragma omp parallel if(n >= parallel_min_items()) reduction(+ : wall_contacts) reduction(min : bad, overflow) \
     reduction(max : worst_wall, stiff_wall)
   {

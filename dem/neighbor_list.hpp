@@ -98,7 +98,6 @@ class NeighborList {
   /// The reverse index and the entries' owners as arrays (the force loop reads them through plain
   /// pointers).
   const std::vector<std::uint32_t>& rev_starts() const { return rev_start_; }
-  const std::vector<std::uint32_t>& rev_positions() const { return rev_position_; }
   const std::vector<std::uint32_t>& rev_entries() const { return rev_entry_; }
   const std::vector<std::uint32_t>& owners() const { return owner_; }
   /// Per reverse position r: the particle whose reverse range holds it (the partner of rev_entry(r)).
