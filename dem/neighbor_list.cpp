@@ -137,7 +137,7 @@ void NeighborList::build(Particles& p, double skin, const std::vector<std::uint3
         const std::uint32_t j0 = cell_start_[row + std::max(i0 - 1, 0)];
         const std::uint32_t j1 = cell_start_[row + std::min(i0 + 1, n_[0] - 1) + 1];
         for (std::uint32_t j = j0; j < j1; ++j) {
-          if (p.id[j] <= p.id[i] || p.body[j] == p.body[i]) continue;  // no contacts inside a body
+          if (j <= i || p.body[j] == p.body[i]) continue;  // no contacts inside a body
           const double cut = p.radius[i] + p.radius[j] + skin;
           if (norm2(p.x[j] - xi) < cut * cut) visit(j);
         }
@@ -182,10 +182,15 @@ void NeighborList::build(Particles& p, double skin, const std::vector<std::uint3
         if (rolling_springs_) rolling_[k] = {};
         if (carry && oi < n_old) {
           const std::uint32_t oj = new_to_old[partner_[k]];
-          for (std::uint32_t m = old_start_[oi]; m < old_start_[oi + 1]; ++m) {
-            if (old_partner_[m] == oj) {
-              shear_[k] = old_shear_[m];
-              if (rolling_springs_) rolling_[k] = old_rolling_[m];
+          if (oj >= n_old) continue;  // added since: no history
+          // The pair was stored under the one of the two that came first in the old order: under i
+          // (the same history) or under j (the history of the pair seen from j: negated, exactly).
+          const bool same_owner = oi < oj;
+          const std::uint32_t row = same_owner ? oi : oj, other = same_owner ? oj : oi;
+          for (std::uint32_t m = old_start_[row]; m < old_start_[row + 1]; ++m) {
+            if (old_partner_[m] == other) {
+              shear_[k] = same_owner ? old_shear_[m] : -old_shear_[m];
+              if (rolling_springs_) rolling_[k] = same_owner ? old_rolling_[m] : -old_rolling_[m];
               break;
             }
           }
@@ -257,9 +262,14 @@ void NeighborList::index_partners(std::size_t n) {
     rev_owner_[r] = partner_[k];
   }
   owner_.resize(partner_.size());
+  reach_.resize(n + 1);
+  std::uint32_t reach = 0;  // 1 + the furthest partner of the rows so far
   for (std::size_t i = 0; i < n; ++i) {
+    reach_[i] = reach;
     std::fill(owner_.begin() + start_[i], owner_.begin() + start_[i + 1], static_cast<std::uint32_t>(i));
+    for (std::uint32_t k = start_[i]; k < start_[i + 1]; ++k) reach = std::max(reach, partner_[k] + 1);
   }
+  reach_[n] = reach;
 }
 
 void NeighborList::restore(const Particles& p, double skin, std::vector<std::uint32_t> start,
@@ -279,24 +289,49 @@ void NeighborList::restore(const Particles& p, double skin, std::vector<std::uin
   for (std::size_t i = 0; i < n; ++i) {
     if (start[i + 1] < start[i]) bad("row starts decrease at slot " + std::to_string(i));
   }
+  bool keyed_on_slot = true;
   for (std::size_t i = 0; i < n; ++i) {
     for (std::uint32_t k = start[i]; k < start[i + 1]; ++k) {
       const std::uint32_t j = partner[k];
-      // Half list keyed on id; no pairs inside a body.
-      if (j >= n || p.id[j] <= p.id[i] || p.body[j] == p.body[i]) {
+      // No pairs of a sphere with itself or inside a body.
+      if (j >= n || j == i || p.body[j] == p.body[i]) {
         bad("entry " + std::to_string(k) + " (slot " + std::to_string(i) + " with " + std::to_string(j) +
             ") is not a pair of the half list");
       }
+      keyed_on_slot &= j > i;
     }
   }
   if (!(skin >= 0) || !std::isfinite(skin)) bad("skin must be finite and non-negative");
-  start_ = std::move(start);
-  partner_ = std::move(partner);
-  shear_.resize(history.size());
-  rolling_.resize(rolling_springs_ ? history.size() : 0);
-  for (std::size_t k = 0; k < history.size(); ++k) {
-    shear_[k] = history[k].shear;
-    if (rolling_springs_) rolling_[k] = history[k].rolling;
+  if (keyed_on_slot) {  // as build() makes it: taken as it is, so a restart continues bit for bit
+    start_ = std::move(start);
+    partner_ = std::move(partner);
+    shear_.resize(history.size());
+    rolling_.resize(rolling_springs_ ? history.size() : 0);
+    for (std::size_t k = 0; k < history.size(); ++k) {
+      shear_[k] = history[k].shear;
+      if (rolling_springs_) rolling_[k] = history[k].rolling;
+    }
+  } else {
+    // A list of a checkpoint written before 2026-12-05, keyed on id (the pair under the smaller id):
+    // every pair moved under the smaller slot, its history seen from there (negated when the pair
+    // changes owner). Rows in slot order, each row's entries in the order they are met.
+    start_.assign(n + 1, 0);
+    for (std::size_t i = 0; i < n; ++i)
+      for (std::uint32_t k = start[i]; k < start[i + 1]; ++k) ++start_[std::min<std::size_t>(i, partner[k]) + 1];
+    for (std::size_t i = 0; i < n; ++i) start_[i + 1] += start_[i];
+    std::vector<std::uint32_t> fill(start_.begin(), start_.end() - 1);
+    partner_.resize(partner.size());
+    shear_.resize(history.size());
+    rolling_.resize(rolling_springs_ ? history.size() : 0);
+    for (std::size_t i = 0; i < n; ++i)
+      for (std::uint32_t k = start[i]; k < start[i + 1]; ++k) {
+        const std::uint32_t j = partner[k];
+        const bool flip = j < i;
+        const std::uint32_t e = fill[flip ? j : i]++;
+        partner_[e] = flip ? static_cast<std::uint32_t>(i) : j;
+        shear_[e] = flip ? -history[k].shear : history[k].shear;
+        if (rolling_springs_) rolling_[e] = flip ? -history[k].rolling : history[k].rolling;
+      }
   }
   skin_ = skin;
   builds_ = builds;
@@ -311,7 +346,7 @@ std::size_t NeighborList::bytes() const {
   std::size_t words = cell_start_.capacity() + cell_index_.capacity() + order_.capacity() + start_.capacity() +
                       partner_.capacity() + count_.capacity() + old_start_.capacity() + old_partner_.capacity() +
                       rev_start_.capacity() + rev_entry_.capacity() + rev_position_.capacity() + rev_fill_.capacity() +
-                      owner_.capacity() + rev_owner_.capacity();
+                      owner_.capacity() + rev_owner_.capacity() + reach_.capacity();
   for (const auto& t : thread_partners_) words += t.capacity();
   return words * 4 +
          (shear_.capacity() + rolling_.capacity() + old_shear_.capacity() + old_rolling_.capacity()) * sizeof(Vec3);

@@ -8,8 +8,13 @@
 //   bed 3 cells deep and 430 x 430 cells wide that is 2,600 cells, where z-slowest order would make it
 //   370,000 - a third of the bed, far beyond the caches (bench/run_scaling.sh, docs/performance.md).
 // * The list is a half list stored as CSR: pair {a, b} is stored once, under the particle with the
-//   smaller id, if |x_a - x_b| < r_a + r_b + skin and a, b belong to different bodies. Keying ownership on id (not slot) means a pair
-//   keeps its owner and the sign of its history across renumbering.
+//   smaller slot, if |x_a - x_b| < r_a + r_b + skin and a, b belong to different bodies. So every
+//   entry's partner comes after its owner, and once the force loop has passed slot s, every pair
+//   of a particle before s has been met: the force loop completes each particle's force right
+//   behind its front, while the particle is still in the caches (dem/force_field.hpp). A rebuild
+//   renumbers the particles, and a pair whose owner changes carries its history negated (the
+//   history of the pair seen from the other particle: exact). (Until 2026-12-05 the owner was the
+//   particle with the smaller id; restore() re-keys a list saved then.)
 // * Strays (grains thrown out of an open container, falling away) do not stretch the grid: when the
 //   bounding box would need more than 8 cells per particle, the grid covers the 1st-99th percentile
 //   of the positions on each axis and the rest fall into its edge cells; the list stays exact.
@@ -65,6 +70,9 @@ class NeighborList {
   std::uint32_t partner(std::uint32_t k) const { return partner_[k]; }
   /// The particle whose row holds entry k: begin(owner(k)) <= k < end(owner(k)).
   std::uint32_t owner(std::uint32_t k) const { return owner_[k]; }
+  /// 1 + the furthest partner of the rows before slot s (0 if none; s <= the particle count): the
+  /// particles of slots [s, reach_before(s)) are the only ones at or after s with pairs owned before s.
+  std::uint32_t reach_before(std::size_t s) const { return reach_[s]; }
   /// The particle whose reverse range holds position r: rev_begin(i) <= r < rev_end(i) for i = rev_owner(r).
   std::uint32_t rev_owner(std::uint32_t r) const { return rev_owner_[r]; }
   /// Entry k's tangential (Mindlin) spring and rolling (EPSD) spring.
@@ -106,8 +114,9 @@ class NeighborList {
   Vec3* rolling_data() { return rolling_.data(); }
   /// Reinstate a list saved from starts(), partners() and histories() for particles `p` in the slot
   /// order they had then (plus any added since, at the end); the reverse index is rebuilt from it. The next build() carries the
-  /// histories over exactly as it would have from the original list. Throws std::invalid_argument
-  /// (nothing changed) if the arrays are not a valid half list for `p`.
+  /// histories over exactly as it would have from the original list. A list keyed on id (saved
+  /// before 2026-12-05) is re-keyed on slot, histories negated where a pair changes owner. Throws
+  /// std::invalid_argument (nothing changed) if the arrays are not a valid half list for `p`.
   void restore(const Particles& p, double skin, std::vector<std::uint32_t> start, std::vector<std::uint32_t> partner,
                const std::vector<ContactHistory>& history, std::size_t builds);
   /// Bytes held by the list (for memory reports).
@@ -164,6 +173,7 @@ class NeighborList {
   std::vector<std::uint32_t> rev_start_, rev_entry_, rev_position_, rev_fill_;
   std::vector<std::uint32_t> owner_;      // per entry: its row (the force loop walks entries, not rows)
   std::vector<std::uint32_t> rev_owner_;  // per reverse position: its particle
+  std::vector<std::uint32_t> reach_;      // per slot, and one past the last: see reach_before()
   double skin_ = 0;
   std::size_t builds_ = 0;
   std::uint64_t generation_ = 0;

@@ -55,7 +55,7 @@ struct EnergyRun {
 };
 
 /// 216 elastic frictionless spheres colliding at ~0.5 m/s in a closed box under gravity.
-EnergyRun elastic_box(double dt_fraction, double seconds) {
+EnergyRun elastic_box(double dt_fraction, double seconds, unsigned seed = 7) {
   SimulationSettings st;
   st.gravity = {0, 0, -9.81};
   st.rolling.model = RollingModel::none;
@@ -63,7 +63,7 @@ EnergyRun elastic_box(double dt_fraction, double seconds) {
   Simulation sim(table(1.0, 0.0, 0.0), st);
   const int n = 6;
   const double r = 0.005, spacing = 2.1 * r, side = n * spacing;
-  lattice(sim, n, r, spacing, 0.5, 7);
+  lattice(sim, n, r, spacing, 0.5, seed);
   sim.add_wall("box", std::make_shared<BoxGeometry>(Vec3{0, 0, 0}, Vec3{side, side, side}), 1);
   sim.setup();
   const double e0 = sim.energy().total();
@@ -88,14 +88,20 @@ TEST_CASE("Elastic frictionless spheres in a dense box conserve energy over 100,
   CHECK(run.builds > 10);  // the list was rebuilt (and particles reordered) many times
 }
 
-TEST_CASE("The energy error of collisions converges faster than second order in the time step",
-          "[dem][conservation]") {
+TEST_CASE("The energy error of collisions converges at second order in the time step", "[dem][conservation]") {
+  // The worst energy error of one box is a statistic of a chaotic run: a change in the last bit of
+  // one force (the order a sum is taken in) gives another trajectory, and one box's observed order
+  // then ranges from 1.2 to 3.1 (six lattices: 2.38, 1.20, 2.81, 2.07, 3.14, 2.23 from dt 0.2 to 0.1
+  // of the Rayleigh time; 1.84-2.67 from 0.1 to 0.05). Summed over six lattices it is 2.28 and 2.30.
   const double seconds = 0.4;
-  const EnergyRun coarse = elastic_box(0.2, seconds);
-  const EnergyRun fine = elastic_box(0.1, seconds);
-  const double rate = std::log2(coarse.worst / fine.worst);
-  INFO("worst energy error " << coarse.worst << " -> " << fine.worst << ", observed order " << rate);
-  CHECK(rate > 2.0);
+  double coarse = 0, fine = 0;
+  for (unsigned seed = 1; seed <= 6; ++seed) {
+    coarse += elastic_box(0.2, seconds, seed).worst;
+    fine += elastic_box(0.1, seconds, seed).worst;
+  }
+  const double rate = std::log2(coarse / fine);
+  INFO("worst energy error summed over six boxes " << coarse << " -> " << fine << ", observed order " << rate);
+  REQUIRE(rate > 2.0 - 0.1);
 }
 
 TEST_CASE("Colliding spheres without walls conserve momentum to round-off", "[dem][conservation]") {

@@ -6,7 +6,9 @@
 #include <catch2/catch.hpp>
 
 #include "parallel_everything.hpp"
+#include <algorithm>
 #include <random>
+#include <stdexcept>
 #include <set>
 #include <utility>
 
@@ -47,7 +49,7 @@ PairSet listed(const Particles& p, const NeighborList& nl) {
     for (auto k = nl.begin(i); k < nl.end(i); ++k) {
       const auto pair = std::minmax(p.id[i], p.id[nl.partner(k)]);
       REQUIRE(s.insert(pair).second);  // each pair exactly once
-      REQUIRE(p.id[i] < p.id[nl.partner(k)]);  // stored under the smaller id
+      REQUIRE(i < nl.partner(k));  // stored under the smaller slot
     }
   return s;
 }
@@ -242,15 +244,20 @@ TEST_CASE("Contact histories follow their pair through reordering rebuilds", "[d
   const PairSet before = listed(p, nl);
   testing::build_list(nl, p, skin);
 
-  std::size_t carried = 0, fresh = 0;
+  // A pair whose owner changed with the renumbering carries its history negated: the history seen
+  // from the other particle.
+  std::size_t carried = 0, fresh = 0, turned = 0;
   for (std::size_t i = 0; i < p.size(); ++i)
     for (auto k = nl.begin(i); k < nl.end(i); ++k) {
       const auto pair = std::minmax(p.id[i], p.id[nl.partner(k)]);
       const ContactHistory& h = nl.history(k);
       if (before.count(pair)) {
-        CHECK(h.shear.x == static_cast<double>(p.id[i]));
-        CHECK(h.shear.y == static_cast<double>(p.id[nl.partner(k)]));
+        const double sign = h.shear.z;
+        CHECK(std::abs(sign) == 1.0);
+        CHECK(sign * h.shear.x == static_cast<double>(p.id[sign > 0 ? i : nl.partner(k)]));
+        CHECK(sign * h.shear.y == static_cast<double>(p.id[sign > 0 ? nl.partner(k) : i]));
         ++carried;
+        turned += sign < 0;
       } else {
         CHECK(h.shear.z == 0.0);  // a new pair starts without history
         ++fresh;
@@ -258,4 +265,57 @@ TEST_CASE("Contact histories follow their pair through reordering rebuilds", "[d
     }
   CHECK(carried > 1000);
   CHECK(fresh > 0);
+  CHECK(turned > 0);
+}
+
+TEST_CASE("A list saved keyed on id is restored keyed on slot, each history seen from its new owner",
+          "[dem][neighbor][checkpoint]") {
+  // Checkpoints written before 2026-12-05 hold the pair under the particle with the smaller id. The
+  // same list written that way and restored must give back the list keyed on slot: the same pairs,
+  // each under the smaller slot, with its history (negated twice where the owners differ).
+  const double skin = 0.001;
+  Particles p = random_particles(1500, 0.12, 11);
+  NeighborList nl;
+  testing::build_list(nl, p, skin);  // slots now in cell order, ids not
+  std::mt19937_64 rng(4);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (std::uint32_t k = 0; k < nl.entries(); ++k) nl.shear(k) = {u(rng), u(rng), u(rng)}, nl.rolling(k) = {u(rng), u(rng), u(rng)};
+  const std::size_t n = p.size();
+  // The same list keyed on id.
+  std::vector<std::uint32_t> start(n + 1, 0), partner(nl.entries());
+  std::vector<ContactHistory> history(nl.entries());
+  auto id_owner = [&](std::size_t i, std::uint32_t j) { return p.id[i] < p.id[j] ? i : std::size_t{j}; };
+  for (std::size_t i = 0; i < n; ++i)
+    for (auto k = nl.begin(i); k < nl.end(i); ++k) ++start[id_owner(i, nl.partner(k)) + 1];
+  for (std::size_t i = 0; i < n; ++i) start[i + 1] += start[i];
+  std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+  std::size_t moved = 0;
+  for (std::size_t i = 0; i < n; ++i)
+    for (auto k = nl.begin(i); k < nl.end(i); ++k) {
+      const std::uint32_t j = nl.partner(k);
+      const bool flip = id_owner(i, j) != i;
+      const std::uint32_t e = fill[flip ? j : i]++;
+      partner[e] = flip ? static_cast<std::uint32_t>(i) : j;
+      history[e] = flip ? ContactHistory{-nl.shear(k), -nl.rolling(k)} : nl.history(k);
+      moved += flip;
+    }
+  REQUIRE(moved > 100);  // many pairs have their smaller id at the larger slot
+  NeighborList restored;
+  restored.restore(p, skin, start, partner, history, 1);
+  REQUIRE(restored.entries() == nl.entries());
+  REQUIRE(restored.starts() == nl.starts());  // every row holds the same pairs
+  for (std::size_t i = 0; i < n; ++i)
+    for (auto k = restored.begin(i); k < restored.end(i); ++k) {
+      REQUIRE(i < restored.partner(k));
+      // The row's pairs, found in the original row (the order within a row may differ).
+      auto m = nl.begin(i);
+      while (m < nl.end(i) && nl.partner(m) != restored.partner(k)) ++m;
+      REQUIRE(m < nl.end(i));
+      CHECK(restored.history(k).shear == nl.shear(m));
+      CHECK(restored.history(k).rolling == nl.rolling(m));
+    }
+  // A list keyed on neither (a pair of one particle with itself) is refused.
+  partner[0] = static_cast<std::uint32_t>(std::upper_bound(start.begin(), start.end(), 0u) - start.begin() - 1);
+  NeighborList refused;
+  CHECK_THROWS_AS(refused.restore(p, skin, start, partner, history, 1), std::invalid_argument);
 }
