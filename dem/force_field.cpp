@@ -14,26 +14,15 @@ namespace grainscale::dem {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-// Pass 1 fetches the partner of the entry kPrefetchEntries ahead (its position, radius and
+// The pair front fetches the partner of the entry kPrefetchEntries ahead (its position, radius and
 // velocities) in beds too large for the caches: there its neighbours in the next rows of cells
 // stream from memory and the hardware prefetchers, with a dozen arrays to follow at two or three
 // distances each, miss them (10^5 spheres: +5-15 %). In beds that fit the
 // caches the prefetches only cost (10^4 spheres -4 %, the clump bed -2 %), hence the threshold:
 // 10^4 spheres (16 MB) fit a 32 MiB L3, 10^5 (160 MB) do not (beyond_cache_spheres(), which
-// also picks pass 1's entry loop: see there).
+// also picks the entry loop and the completion front: see there).
 constexpr std::size_t kPrefetchEntries = 24;
-// Pass 2 fetches the partner share (and its flag) kSharePrefetch reverse positions ahead, in the
-// same beds: it reads them scattered, as pass 1 stores them in entry order (see there). In-process
-// A/B, 10^5 bed, 1 thread: without it -1.0 / -6.6 %; 32 ahead level.
-constexpr std::size_t kSharePrefetch = 16;
-// Pass 2 fetches the state and wall slots of the sphere kWallPrefetchSpheres ahead, in the same
-// beds: the wall contacts read them for over a third of the spheres (the 10^5 bed's floor layer:
-// 36,742 wall contacts), beside a dozen other arrays that pass 2 streams, and waited for them
-// (perf, 10^5 bed: the function's top samples on its loads of x, v, omega and the old slots).
-// In-process A/B, 1 thread: 10^5 bed +3.3 / +5.4 %, the poured 2x platform box +6.9 / +7.9 %;
-// 16 ahead about as good, 32 worse; only for spheres with walls in reach: level.
-constexpr std::size_t kWallPrefetchSpheres = 8;
-constexpr std::size_t kPassBlock = 64;  // spheres per block in both passes (guided: chunks of 2 or more)
+constexpr std::size_t kPassBlock = 64;  // spheres per block (guided: chunks of 2 or more)
 
 /// Contact and rolling parameters for every material pair that is defined.
 template <class Rolling, class MakeRolling>
@@ -172,7 +161,7 @@ template <class Rolling>
 void ForceField::flush_walls(WallBatch<Rolling>& b, double dt, Particles& p, WallStats& ws, std::int64_t& bad) {
   b.evaluate(dt);
   // Each contact's force and torque added to its sphere in the order found: the sums the
-  // one-at-a-time loop took (its running sum started from what pass 2 had stored).
+  // one-at-a-time loop took (its running sum started from the sphere's sums and partner shares).
   for (int c = 0; c < b.size; ++c) {
     const std::uint32_t i = b.owner[c];
     p.force[i] += Vec3{b.fx[c], b.fy[c], b.fz[c]};
@@ -252,22 +241,32 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
 
   std::size_t contacts = 0, wall_contacts = 0;
   double worst_ratio = 0, stiff_pair = 0;  // stiff_*: max S_n / m* (for the omega dt monitor)
+  std::int64_t bad = std::numeric_limits<std::int64_t>::max();
+  std::int64_t overflow = std::numeric_limits<std::int64_t>::max();
+  double worst_wall = 0, stiff_wall = 0;
 
-  // Pass 1: every pair once, by its owner i. The owner's share is summed here, in entry order; the
-  // partner's share is stored by entry, and pass 2 gathers each sphere's through its reverse range.
-  // (Until the night of 2026-12-04 it was stored at the entry's place in the partner's reverse
-  // range, with the contact flag there too, so that pass 2 read both in order: two scattered stores
-  // per entry here, the flag's for every entry, touching or not. A store that misses holds up every
-  // store behind it, while scattered loads, fetched ahead, overlap: in-process A/B, 1 thread, 10^5
-  // bed +2.8 / +7.1 / +4.4 / +2.5 %, 10^4 bed +0.1 / +2.8 %, the clump bed and the poured 2x
-  // platform box level; the same numbers bit for bit, and one byte less per entry.) The entry loop
-  // only finds the touching pairs and gathers them into a batch per thread; a full batch is evaluated
-  // at once, vectorised, then summed and stored (dem/pair_batch.hpp; the same numbers as one contact
-  // at a time). A sphere's sums stay open across a batch that ends inside its entries.
-  // The loop walks a block's entries, not its spheres: in a settled bed most spheres own no entry
-  // (the clump bed: 0.5 per sphere), and a sphere loop paid for each a mispredicted "any entries?"
-  // branch and the loads of its state (perf: a fifth of this pass). A block's forces and torques are
-  // zeroed first; the spheres with touching entries get their sums when they are complete.
+  // One sweep over the spheres, in blocks, with two fronts (until 2026-12-05 two passes, each over
+  // every sphere: docs/performance.md).
+  // - The pair front: every pair once, by its owner i (the smaller slot). The owner's share is
+  //   summed in entry order and stored when complete; the partner's share is stored by entry. The
+  //   entry loop only finds the touching pairs and gathers them into a batch per thread; a full
+  //   batch is evaluated at once, vectorised (dem/pair_batch.hpp; the same numbers as one contact at
+  //   a time). A sphere's sums stay open across a batch that ends inside its entries. The loop walks
+  //   a block's entries, not its spheres: in a settled bed most spheres own no entry (the clump
+  //   bed: 0.5 per sphere), and a sphere loop paid for each a mispredicted "any entries?" branch and
+  //   the loads of its state. A block's forces and torques are zeroed first.
+  // - The completion front, right behind it: each time a batch has been evaluated, every sphere
+  //   before the owner of its last contact has all its pairs evaluated (its own, and those of
+  //   owners before it, since a pair's owner is its smaller slot), so its force is completed: the
+  //   partner shares added in reverse-range order, then its wall contacts. What that reads (the
+  //   sphere's state, its sums, the shares) was touched a batch or a few hundred spheres ago and is
+  //   still in the caches; a second pass over a bed beyond the caches read it all from memory again.
+  // Every sphere's force is the same sum in the same order for any thread count: its own contacts in
+  // entry order, the partner shares in reverse-range order, its wall contacts in the order found.
+  // Threads take chunks of blocks (guided: the first are half and a quarter of the spheres; a static
+  // split can hand one thread most of the wall contacts or of a pile's contacts). A chunk cannot
+  // complete its first spheres whose pairs have owners before the chunk (slots [chunk start,
+  // NeighborList::reach_before(chunk start))): they are completed after a barrier.
   // (Plain local pointers: a one-byte store through a member vector, the contact flags, may alias
   // anything, and GCC reloaded every array's address from memory after each one.)
   const Vec3 *const x = p.x.data(), *const v = p.v.data(), *const omega = p.omega.data();
@@ -275,11 +274,19 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
   const std::int32_t* const material = p.material.data();
   const std::uint32_t *const start = nl.starts().data(), *const partner = nl.partners().data();
   const std::uint32_t* const owner = nl.owners().data();
+  const std::uint32_t *const rev_start = nl.rev_starts().data(), *const rev_owner = nl.rev_owners().data();
+  const std::uint32_t* const rev_entry = nl.rev_entries().data();
   Vec3 *const shear = nl.shear_data(), *const rolling = nl.rolling_data();
   std::uint8_t* const touching = touching_.data();
   Vec3 *const force = p.force.data(), *const torque = p.torque.data();
+  const PartnerShare* const share = partner_share_.data();
+  const std::uint8_t* const before_count = wall_slots_.before_counts();
+  std::uint8_t* const count = wall_slots_.counts();
   const std::size_t blocks = (n + kPassBlock - 1) / kPassBlock;
   const bool beyond_cache = n >= beyond_cache_spheres();
+  const bool fused = beyond_cache;  // else the completion is a second loop over the blocks
+  deferred_end_.assign(blocks, 0);  // per chunk's first block: the end of the spheres left for after the barrier
+  std::uint32_t* const deferred_end = deferred_end_.data();
   // Entry k (owner i, partner j, d = x_i - x_j) touches: its pair goes into the batch's slot b.
   auto gather = [&](PairBatch<Rolling>& batch, int b, std::uint32_t k, std::uint32_t i, std::uint32_t j, Vec3 d,
                     double dist2, double rsum, double ri, Vec3 vi, Vec3 wi, double mass_i, double inertia_i, int row) {
@@ -308,13 +315,81 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
     __builtin_prefetch(&x[ahead]), __builtin_prefetch(&radius[ahead]);
     __builtin_prefetch(&v[ahead]), __builtin_prefetch(&omega[ahead]);
   };
-#pragma omp parallel if(n >= parallel_min_items()) reduction(+ : contacts) reduction(max : worst_ratio, stiff_pair)
+#pragma omp parallel if(n >= parallel_min_items()) reduction(+ : contacts, wall_contacts) \
+    reduction(max : worst_ratio, stiff_pair, worst_wall, stiff_wall) reduction(min : bad, overflow)
   {
     PairBatch<Rolling> batch;
     OwnerSum open{n};
+    WallStats ws;
+    WallBatch<Rolling> wall_batch;
+    // Spheres [from, to) completed: the partner shares (walked by reverse position as the pair front
+    // walks entries: most spheres of a settled bed have none, so no per-sphere branch on it; a share
+    // is current if its entry is touching), then the wall contacts, a function of their own, not
+    // inlined: most spheres skip them, and inlined they left too few registers for the loop.
+    auto complete = [&](std::size_t from, std::size_t to) {
+      for (std::uint32_t r = rev_start[from], last = rev_start[to]; r < last; ++r) {
+        const std::uint32_t k = rev_entry[r];
+        if (!touching[k]) continue;
+        const std::uint32_t i = rev_owner[r];
+        force[i] -= share[k].force;
+        torque[i] += share[k].torque;
+      }
+      for (std::size_t i = from; i < to; ++i) {
+        const int previous = before_count[i];
+        const std::uint32_t near = near_walls_[i];
+        // Most of a bed has no wall within reach and had no wall contact: skip the lot.
+        if (previous > 0 || near != 0 || walls.size() > kMaskedWalls) {
+          const int queued = wall_batch.size;
+          add_wall_contacts(m, p, walls, i, dt, wall_batch, ws, bad);
+          if (count[i] > 0 || wall_batch.size != queued) continue;  // checked when its contacts are added
+        } else {
+          count[i] = 0;
+        }
+        // x * 0 is 0 for a finite x and NaN for an infinity or a NaN: one test for all six (no branch
+        // per component on every sphere).
+        const Vec3 f = force[i], t = torque[i];
+        const double probe = (f.x * 0 + f.y * 0 + f.z * 0) + (t.x * 0 + t.y * 0 + t.z * 0);
+        if (probe != 0) bad = std::min<std::int64_t>(bad, static_cast<std::int64_t>(i));
+      }
+    };
+    std::size_t done = 0;  // spheres of this chunk before it are completed or left for after the barrier
+    // A full batch evaluated: the spheres before the owner of its last contact are complete. Their
+    // wall slots, the one thing of theirs the pair front has not touched, are fetched first, to
+    // arrive while the batch is evaluated.
+    auto flush = [&](int b) {
+      batch.size = b;
+      if (fused) {
+        const std::size_t to = batch.owner[b - 1];
+        for (std::size_t i = done; i < to; ++i) {
+          if (before_count[i] > 0 || near_walls_[i] != 0) {
+            __builtin_prefetch(wall_slots_.before(i)), __builtin_prefetch(wall_slots_.now(i), 1);
+          }
+        }
+      }
+      flush_pairs(batch, dt, p, nl, open, worst_ratio, stiff_pair);
+      if (fused && open.slot < n && open.slot > done) complete(done, open.slot), done = open.slot;
+    };
+    std::size_t chunk_first = blocks, next_block = blocks;  // this thread's chunk: first block, and the one after it
+    auto end_chunk = [&]() {
+      if (chunk_first == blocks) return;
+      const std::size_t lo = chunk_first * kPassBlock, hi = std::min(n, next_block * kPassBlock);
+      flush_pairs(batch, dt, p, nl, open, worst_ratio, stiff_pair);
+      if (open.slot < n) force[open.slot] = open.force, torque[open.slot] = open.torque;
+      open = {n, {}, {}};
+      if (!fused) return;
+      const std::size_t deferred = std::min<std::size_t>(hi, nl.reach_before(lo));
+      if (deferred > lo) deferred_end[chunk_first] = static_cast<std::uint32_t>(deferred);
+      if (hi > done) complete(done, hi), done = hi;
+    };
 #pragma omp for schedule(guided, 2) nowait
     for (std::size_t block = 0; block < blocks; ++block) {
       const std::size_t lo = block * kPassBlock, hi = std::min(n, lo + kPassBlock);
+      if (block != next_block) {  // a chunk begins
+        end_chunk();
+        chunk_first = block;
+        done = std::max<std::size_t>(lo, nl.reach_before(lo));
+      }
+      next_block = block + 1;
       for (std::size_t i = lo; i < hi; ++i) force[i] = {}, torque[i] = {};
       int b = batch.size;  // in a register, stored back before a flush
       if (!beyond_cache) {
@@ -345,11 +420,7 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
           touching[k] = 1;
           ++contacts;
           gather(batch, b, k, i, j, d, dist2, rsum, ri, vi, wi, mass_i, inertia_i, row);
-          if (++b == PairBatch<Rolling>::kCapacity) {
-            batch.size = b;
-            flush_pairs(batch, dt, p, nl, open, worst_ratio, stiff_pair);
-            b = 0;
-          }
+          if (++b == PairBatch<Rolling>::kCapacity) flush(b), b = 0;
         }
       } else {
         // A bed beyond the caches: first the distance tests of a chunk of entries, with no branch
@@ -391,87 +462,25 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
             const Vec3 d = x[i] - x[j];
             gather(batch, b, k, i, j, d, norm2(d), radius[i] + radius[j], radius[i], v[i], omega[i], mass[i],
                    inertia[i], material[i] * m.materials);
-            if (++b == PairBatch<Rolling>::kCapacity) {
-              batch.size = b;
-              flush_pairs(batch, dt, p, nl, open, worst_ratio, stiff_pair);
-              b = 0;
-            }
+            if (++b == PairBatch<Rolling>::kCapacity) flush(b), b = 0;
           }
         }
       }
       batch.size = b;
     }
-    flush_pairs(batch, dt, p, nl, open, worst_ratio, stiff_pair);
-    if (open.slot < n) force[open.slot] = open.force, torque[open.slot] = open.torque;
-  }
-
-  // Pass 2: add the partner shares in reverse-range order, and the sphere's wall contacts. (Gravity acts on
-  // bodies: Simulation adds it when it sums the spheres of each body.) Guided schedule, in both passes:
-  // a static split can hand one thread most of the wall contacts or of a pile's contacts (2 threads
-  // on the clump bed: 15 M sphere-steps/s against 17-19 M), while dynamic chunks of 128 spheres,
-  // smaller than a neighbour's distance in slots, leave half the partner shares written by one thread
-  // and read by the other; guided's first chunks are half and a quarter of the spheres (17.3/17.3 ->
-  // 18.1/17.6 M, A/B pairs).
-  // The wall contacts are a function of their own, not inlined: most spheres skip them, and inlined
-  // they left too few registers for the sphere loop.
-  std::int64_t bad = std::numeric_limits<std::int64_t>::max();
-  std::int64_t overflow = std::numeric_limits<std::int64_t>::max();
-  double worst_wall = 0, stiff_wall = 0;
-  const std::uint32_t *const rev_start = nl.rev_starts().data(), *const rev_owner = nl.rev_owners().data();
-  const std::uint32_t* const rev_entry = nl.rev_entries().data();
-  const PartnerShare* const share = partner_share_.data();
-  const std::uint8_t* const before_count = wall_slots_.before_counts();
-  std::uint8_t* const count = wall_slots_.counts();
-  // What sphere a's wall contacts will read, ahead of them (in beds too large for the caches).
-  auto prefetch_sphere = [&](std::size_t a) {
-    __builtin_prefetch(&x[a]), __builtin_prefetch(&v[a]), __builtin_prefetch(&omega[a]);
-    __builtin_prefetch(&radius[a]), __builtin_prefetch(&mass[a]), __builtin_prefetch(&inertia[a]);
-    __builtin_prefetch(&material[a]);
-    __builtin_prefetch(wall_slots_.before(a)), __builtin_prefetch(wall_slots_.now(a), 1);
-  };
-#pragma omp parallel if(n >= parallel_min_items()) reduction(+ : wall_contacts) reduction(min : bad, overflow) \
-    reduction(max : worst_wall, stiff_wall)
-  {
-    WallStats ws;
-    WallBatch<Rolling> batch;
+    end_chunk();
+#pragma omp barrier
+    if (fused) {
+      // The first spheres of the chunks, whose pairs with owners before their chunk are all evaluated now.
+#pragma omp for schedule(static) nowait
+      for (std::size_t block = 0; block < blocks; ++block) {
+        if (deferred_end[block] > 0) complete(block * kPassBlock, deferred_end[block]);
+      }
+    } else {
 #pragma omp for schedule(guided, 2) nowait
-    for (std::size_t block = 0; block < blocks; ++block) {
-      const std::size_t lo = block * kPassBlock, hi = std::min(n, lo + kPassBlock);
-      // The partner shares, walked by reverse position as pass 1 walks entries (most spheres of a
-      // settled bed have none: no per-sphere branch on it); each sphere's in reverse-range order,
-      // added to what pass 1 stored: the sums a loop per sphere takes. A share is current if its
-      // entry is touching (pass 1 wrote both).
-      for (std::uint32_t r = rev_start[lo], last = rev_start[hi]; r < last; ++r) {
-        if (beyond_cache && r + kSharePrefetch < entries) {
-          const std::uint32_t ahead = rev_entry[r + kSharePrefetch];
-          __builtin_prefetch(&touching[ahead]), __builtin_prefetch(&share[ahead]);
-        }
-        const std::uint32_t k = rev_entry[r];
-        if (!touching[k]) continue;
-        const std::uint32_t i = rev_owner[r];
-        force[i] -= share[k].force;
-        torque[i] += share[k].torque;
-      }
-      for (std::size_t i = lo; i < hi; ++i) {
-        if (beyond_cache && i + kWallPrefetchSpheres < n) prefetch_sphere(i + kWallPrefetchSpheres);
-        const int previous = before_count[i];
-        const std::uint32_t near = near_walls_[i];
-        // Most of a bed has no wall within reach and had no wall contact: skip the lot.
-        if (previous > 0 || near != 0 || walls.size() > kMaskedWalls) {
-          const int queued = batch.size;
-          add_wall_contacts(m, p, walls, i, dt, batch, ws, bad);
-          if (count[i] > 0 || batch.size != queued) continue;  // checked when its contacts are added
-        } else {
-          count[i] = 0;
-        }
-        // x * 0 is 0 for a finite x and NaN for an infinity or a NaN: one test for all six (no branch
-        // per component on every sphere).
-        const Vec3 f = force[i], t = torque[i];
-        const double probe = (f.x * 0 + f.y * 0 + f.z * 0) + (t.x * 0 + t.y * 0 + t.z * 0);
-        if (probe != 0) bad = std::min<std::int64_t>(bad, static_cast<std::int64_t>(i));
-      }
+      for (std::size_t block = 0; block < blocks; ++block) complete(block * kPassBlock, std::min(n, (block + 1) * kPassBlock));
     }
-    flush_walls(batch, dt, p, ws, bad);
+    flush_walls(wall_batch, dt, p, ws, bad);
     wall_contacts += ws.contacts;
     overflow = std::min(overflow, ws.overflow);
     worst_wall = std::max(worst_wall, ws.worst_ratio);

@@ -3,13 +3,16 @@
 // neighbour list and sphere-wall contacts. (Bodies add gravity when they sum their spheres.) The loop is written once (force_field.cpp) and instantiated for each
 // contact/rolling model pair; models are small evaluator structs in dem/contact/.
 //
-// Pass 1 runs over neighbour-list entries (owner slot in parallel): it sums the owner's share of
-// its contacts and stores the partner's share by entry; the touching pairs it finds are evaluated
-// in batches, vectorised (dem/pair_batch.hpp), with the same numbers as one at a time. Pass 2 runs
-// over spheres and adds, in that fixed order, the partner shares (through the sphere's reverse range
-// of entries) and the wall contacts.
+// One sweep over the spheres in blocks, with two fronts. The pair front runs over neighbour-list
+// entries (owner slot in parallel): it sums the owner's share of its contacts and stores the
+// partner's share by entry; the touching pairs it finds are evaluated in batches, vectorised
+// (dem/pair_batch.hpp), with the same numbers as one at a time. The completion front follows right
+// behind (a pair's owner is its smaller slot, so a sphere the pair front has passed has met all its
+// pairs) and adds, in that fixed order, the partner shares (through the sphere's reverse range of
+// entries) and the wall contacts, while what it reads is still in the caches. Beds within the caches
+// complete every block in a second loop instead (the same sums).
 // Most entries of a bed are not in contact (the skin): a one-byte flag per entry says which shares
-// are current, so passes 1 and 2 touch nothing but that flag for them (the per-entry traffic
+// are current, so both fronts touch nothing but that flag for them (the per-entry traffic
 // bounded the step: docs/performance.md). No two threads write the same memory, so results are
 // bitwise identical for any thread count.
 #include <cstdint>
@@ -61,9 +64,10 @@ struct ContactModels {
   std::vector<typename Rolling::Params> rolling;
 };
 
-/// Beds of this many spheres or more are taken to be beyond the caches: pass 1 then prefetches
-/// partners and tests a chunk of entries before gathering its contacts (dem/force_field.cpp). Either
-/// loop gives the same numbers, bit for bit; tests set 0 to run the chunked one on small beds (as
+/// Beds of this many spheres or more are taken to be beyond the caches: the pair front then
+/// prefetches partners and tests a chunk of entries before gathering its contacts, and the
+/// completion front follows it (dem/force_field.cpp). Either way gives the same numbers, bit for
+/// bit; tests set 0 to run the chunked loop and the completion front on small beds (as
 /// parallel_min_items, dem/parallel.hpp, makes small loops parallel).
 inline std::size_t& beyond_cache_spheres() {
   static std::size_t spheres = 50000;
@@ -123,7 +127,7 @@ class ForceField {
   ForceDiagnostics compute_with(const Models<Rolling>& m, Particles& p, NeighborList& nl, const std::vector<Wall>& walls,
                                 double dt);
 
-  /// Sums of the owner's shares of the sphere whose batched contacts are being added (pass 1).
+  /// Sums of the owner's shares of the sphere whose batched contacts are being added (the pair front).
   struct OwnerSum {
     std::size_t slot;  // >= the sphere count: none yet
     Vec3 force{}, torque{};
@@ -155,9 +159,12 @@ class ForceField {
   std::vector<PartnerShare> partner_share_;
   // touching_[k]: entry k was in contact at the last compute, so its history may be non-zero and
   // partner_share_[k] is current. Invariant: touching_[k] == 0 implies a zero history, so a pair
-  // that stays apart costs no writes to its history (pass 1's loop for beds in the caches writes
+  // that stays apart costs no writes to its history (the entry loop for beds in the caches writes
   // nothing for it at all). Rebuilt from the histories when the list changes (generation).
   std::vector<std::uint8_t> touching_;
+  // Per block of the force loop: if a chunk of blocks begins there, the end of its first spheres,
+  // completed after the barrier (their pairs with owners before the chunk are evaluated then); else 0.
+  std::vector<std::uint32_t> deferred_end_;
   std::uint64_t list_generation_ = ~std::uint64_t{0};
   // near_walls_[i] bit w: wall w (w < kMaskedWalls) may touch sphere i before the masks are made
   // again: at each list build, and when a wall has moved further than its margin (find_near_walls

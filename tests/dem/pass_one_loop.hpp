@@ -1,6 +1,7 @@
 #pragma once
-// Chooses pass 1's entry loop for the life of the object, whatever the bed's size: the chunked loop
-// of beds beyond the caches, or the entry-by-entry loop of beds within them (dem/force_field.hpp,
+// Chooses the force loop for the life of the object, whatever the bed's size: that of beds beyond
+// the caches (the chunked entry loop, the completion front right behind the pair front), or that of
+// beds within them (the entry-by-entry loop, the completion in a second loop) (dem/force_field.hpp,
 // beyond_cache_spheres), so that tests run both on small beds.
 #include <cstddef>
 #include <limits>
