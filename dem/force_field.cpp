@@ -245,8 +245,8 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
   std::int64_t overflow = std::numeric_limits<std::int64_t>::max();
   double worst_wall = 0, stiff_wall = 0;
 
-  // One sweep over the spheres, in blocks, with two fronts (until 2026-12-05 two passes, each over
-  // every sphere: docs/performance.md).
+  // One sweep over the spheres, in blocks, with two fronts, in beds beyond the caches; beds within
+  // them complete every block in a second loop (until 2026-12-05 every bed did: docs/performance.md).
   // - The pair front: every pair once, by its owner i (the smaller slot). The owner's share is
   //   summed in entry order and stored when complete; the partner's share is stored by entry. The
   //   entry loop only finds the touching pairs and gathers them into a batch per thread; a full
@@ -260,7 +260,10 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
   //   owners before it, since a pair's owner is its smaller slot), so its force is completed: the
   //   partner shares added in reverse-range order, then its wall contacts. What that reads (the
   //   sphere's state, its sums, the shares) was touched a batch or a few hundred spheres ago and is
-  //   still in the caches; a second pass over a bed beyond the caches read it all from memory again.
+  //   still in the caches; a second pass over a bed beyond the caches read it all from memory again
+  //   (in-process A/B: 10^5 bed +4.5 / +9.0 % on 1 thread, +6.6 / +3.6 % on 2; the poured 2x platform
+  //   box +10 / +17.5 % and +15.6 / +10.3 %). In beds within the caches the interleaving only cost
+  //   (the clump bed, 10^4 and 10^3: 0 to -3 %), hence the second loop there.
   // Every sphere's force is the same sum in the same order for any thread count: its own contacts in
   // entry order, the partner shares in reverse-range order, its wall contacts in the order found.
   // Threads take chunks of blocks (guided: the first are half and a quarter of the spheres; a static

@@ -261,7 +261,7 @@ TEST_CASE("A quick 2x AOR run of barley gives an angle near its calibrated value
   CHECK_THAT(r.angle.mean_deg, WithinAbs(barley.target_deg, 2.0));
 }
 
-TEST_CASE("A small 2x AOR run of barley stays in the band its three-seed calibration set", "[studies][aor]") {
+TEST_CASE("A small 2x AOR run of barley stays in the band its eight-seed calibration set", "[studies][aor]") {
   // The default suite's AOR run: the reduced rig of studies/aor_scale_barley_2x.yaml (60 mm pipe,
   // 120 mm tray, 0.15 kg = about 280 barley clumps at 2x, about a minute on 2 cores), at that
   // study's friction 0.31. The band is the mean +- 2.5 standard deviations of that study run with
