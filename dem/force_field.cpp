@@ -329,6 +329,11 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
     // walks entries: most spheres of a settled bed have none, so no per-sphere branch on it; a share
     // is current if its entry is touching), then the wall contacts, a function of their own, not
     // inlined: most spheres skip them, and inlined they left too few registers for the loop.
+    // Whether sphere i's wall contacts must be looked for: most of a bed has no wall within reach
+    // and had no wall contact.
+    auto near_a_wall = [&](std::size_t i) {
+      return before_count[i] > 0 || near_walls_[i] != 0 || walls.size() > kMaskedWalls;
+    };
     auto complete = [&](std::size_t from, std::size_t to) {
       for (std::uint32_t r = rev_start[from], last = rev_start[to]; r < last; ++r) {
         const std::uint32_t k = rev_entry[r];
@@ -338,10 +343,7 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
         torque[i] += share[k].torque;
       }
       for (std::size_t i = from; i < to; ++i) {
-        const int previous = before_count[i];
-        const std::uint32_t near = near_walls_[i];
-        // Most of a bed has no wall within reach and had no wall contact: skip the lot.
-        if (previous > 0 || near != 0 || walls.size() > kMaskedWalls) {
+        if (near_a_wall(i)) {
           const int queued = wall_batch.size;
           add_wall_contacts(m, p, walls, i, dt, wall_batch, ws, bad);
           if (count[i] > 0 || wall_batch.size != queued) continue;  // checked when its contacts are added
@@ -364,9 +366,7 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
       if (fused) {
         const std::size_t to = batch.owner[b - 1];
         for (std::size_t i = done; i < to; ++i) {
-          if (before_count[i] > 0 || near_walls_[i] != 0) {
-            __builtin_prefetch(wall_slots_.before(i)), __builtin_prefetch(wall_slots_.now(i), 1);
-          }
+          if (near_a_wall(i)) __builtin_prefetch(wall_slots_.before(i)), __builtin_prefetch(wall_slots_.now(i), 1);
         }
       }
       flush_pairs(batch, dt, p, nl, open, worst_ratio, stiff_pair);

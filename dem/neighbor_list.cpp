@@ -289,7 +289,6 @@ void NeighborList::restore(const Particles& p, double skin, std::vector<std::uin
   for (std::size_t i = 0; i < n; ++i) {
     if (start[i + 1] < start[i]) bad("row starts decrease at slot " + std::to_string(i));
   }
-  bool keyed_on_slot = true;
   for (std::size_t i = 0; i < n; ++i) {
     for (std::uint32_t k = start[i]; k < start[i + 1]; ++k) {
       const std::uint32_t j = partner[k];
@@ -298,41 +297,30 @@ void NeighborList::restore(const Particles& p, double skin, std::vector<std::uin
         bad("entry " + std::to_string(k) + " (slot " + std::to_string(i) + " with " + std::to_string(j) +
             ") is not a pair of the half list");
       }
-      keyed_on_slot &= j > i;
     }
   }
   if (!(skin >= 0) || !std::isfinite(skin)) bad("skin must be finite and non-negative");
-  if (keyed_on_slot) {  // as build() makes it: taken as it is, so a restart continues bit for bit
-    start_ = std::move(start);
-    partner_ = std::move(partner);
-    shear_.resize(history.size());
-    rolling_.resize(rolling_springs_ ? history.size() : 0);
-    for (std::size_t k = 0; k < history.size(); ++k) {
-      shear_[k] = history[k].shear;
-      if (rolling_springs_) rolling_[k] = history[k].rolling;
+  // Every pair under its smaller slot, its history seen from there: a list keyed on slot, as build()
+  // makes it, comes out as it went in (a restart continues bit for bit); one of a checkpoint written
+  // before 2026-12-05, keyed on id, is re-keyed, a history negated where its pair changes owner.
+  // Rows in slot order, each row's entries in the order they are met.
+  start_.assign(n + 1, 0);
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::uint32_t k = start[i]; k < start[i + 1]; ++k) ++start_[std::min<std::size_t>(i, partner[k]) + 1];
+  for (std::size_t i = 0; i < n; ++i) start_[i + 1] += start_[i];
+  std::vector<std::uint32_t> fill(start_.begin(), start_.end() - 1);
+  partner_.resize(partner.size());
+  shear_.resize(history.size());
+  rolling_.resize(rolling_springs_ ? history.size() : 0);
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::uint32_t k = start[i]; k < start[i + 1]; ++k) {
+      const std::uint32_t j = partner[k];
+      const bool flip = j < i;
+      const std::uint32_t e = fill[flip ? j : i]++;
+      partner_[e] = flip ? static_cast<std::uint32_t>(i) : j;
+      shear_[e] = flip ? -history[k].shear : history[k].shear;
+      if (rolling_springs_) rolling_[e] = flip ? -history[k].rolling : history[k].rolling;
     }
-  } else {
-    // A list of a checkpoint written before 2026-12-05, keyed on id (the pair under the smaller id):
-    // every pair moved under the smaller slot, its history seen from there (negated when the pair
-    // changes owner). Rows in slot order, each row's entries in the order they are met.
-    start_.assign(n + 1, 0);
-    for (std::size_t i = 0; i < n; ++i)
-      for (std::uint32_t k = start[i]; k < start[i + 1]; ++k) ++start_[std::min<std::size_t>(i, partner[k]) + 1];
-    for (std::size_t i = 0; i < n; ++i) start_[i + 1] += start_[i];
-    std::vector<std::uint32_t> fill(start_.begin(), start_.end() - 1);
-    partner_.resize(partner.size());
-    shear_.resize(history.size());
-    rolling_.resize(rolling_springs_ ? history.size() : 0);
-    for (std::size_t i = 0; i < n; ++i)
-      for (std::uint32_t k = start[i]; k < start[i + 1]; ++k) {
-        const std::uint32_t j = partner[k];
-        const bool flip = j < i;
-        const std::uint32_t e = fill[flip ? j : i]++;
-        partner_[e] = flip ? static_cast<std::uint32_t>(i) : j;
-        shear_[e] = flip ? -history[k].shear : history[k].shear;
-        if (rolling_springs_) rolling_[e] = flip ? -history[k].rolling : history[k].rolling;
-      }
-  }
   skin_ = skin;
   builds_ = builds;
   ++generation_;
