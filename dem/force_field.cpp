@@ -3,6 +3,8 @@
 #include "dem/pair_batch.hpp"
 #include "dem/wall_batch.hpp"
 
+#include <omp.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -22,7 +24,11 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 // 10^4 spheres (16 MB) fit a 32 MiB L3, 10^5 (160 MB) do not (beyond_cache_spheres(), which
 // also picks the entry loop and the completion front: see there).
 constexpr std::size_t kPrefetchEntries = 24;
-constexpr std::size_t kPassBlock = 64;  // spheres per block (guided: chunks of 2 or more)
+constexpr std::size_t kPassBlock = 64;  // spheres per block (a thread takes a range of blocks: dem/work_split.hpp)
+// What a block costs the force loop, per sphere, per list entry it owns and per sphere near a wall
+// (perf, the 10^3 bed, 1 thread: ~4 ns a sphere, ~20 ns an entry, ~25 ns a sphere with a wall in
+// reach); the split's feedback corrects what this estimate misses.
+constexpr double kSphereCost = 1, kEntryCost = 5, kWallSphereCost = 6;
 
 /// Contact and rolling parameters for every material pair that is defined.
 template <class Rolling, class MakeRolling>
@@ -235,8 +241,27 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
     }
     list_generation_ = nl.generation();
     find_near_walls(p, walls, nl, true);
+    split_stale_ = true;
   } else if (!walls_where_found(walls)) {
     find_near_walls(p, walls, nl, false);
+    split_stale_ = true;
+  }
+  const std::size_t blocks = (n + kPassBlock - 1) / kPassBlock;
+  if (split_stale_) {  // each block's estimated cost: its spheres, the entries they own, those near a wall
+    block_cost_.resize(blocks);
+    const std::uint32_t* const first = nl.starts().data();
+    for (std::size_t b = 0; b < blocks; ++b) {
+      const std::size_t lo = b * kPassBlock, hi = std::min(n, lo + kPassBlock);
+      std::size_t near = 0;
+      for (std::size_t i = lo; i < hi; ++i) near += near_walls_[i] != 0 || walls.size() > kMaskedWalls;
+      block_cost_[b] = kSphereCost * static_cast<double>(hi - lo) + kEntryCost * (first[hi] - first[lo]) +
+                       kWallSphereCost * static_cast<double>(near);
+    }
+  }
+  const int team = n >= parallel_min_items() ? omp_get_max_threads() : 1;
+  if (split_stale_ || work_split_.threads() != team || work_split_.rebalance()) {
+    work_split_.split(block_cost_, team);
+    split_stale_ = false;
   }
 
   std::size_t contacts = 0, wall_contacts = 0;
@@ -266,10 +291,10 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
   //   (the clump bed, 10^4 and 10^3: 0 to -3 %), hence the second loop there.
   // Every sphere's force is the same sum in the same order for any thread count: its own contacts in
   // entry order, the partner shares in reverse-range order, its wall contacts in the order found.
-  // Threads take chunks of blocks (guided: the first are half and a quarter of the spheres; a static
-  // split can hand one thread most of the wall contacts or of a pile's contacts). A chunk cannot
-  // complete its first spheres whose pairs have owners before the chunk (slots [chunk start,
-  // NeighborList::reach_before(chunk start))): they are completed after a barrier.
+  // Each thread takes one range of blocks, the same from step to step until the split is made again
+  // (dem/work_split.hpp: ranges of about equal time, so that a sphere's state stays on one core). A
+  // thread cannot complete its first spheres whose pairs have owners before its range (slots [range
+  // start, NeighborList::reach_before(range start))): they are completed after a barrier.
   // (Plain local pointers: a one-byte store through a member vector, the contact flags, may alias
   // anything, and GCC reloaded every array's address from memory after each one.)
   const Vec3 *const x = p.x.data(), *const v = p.v.data(), *const omega = p.omega.data();
@@ -285,11 +310,8 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
   const PartnerShare* const share = partner_share_.data();
   const std::uint8_t* const before_count = wall_slots_.before_counts();
   std::uint8_t* const count = wall_slots_.counts();
-  const std::size_t blocks = (n + kPassBlock - 1) / kPassBlock;
   const bool beyond_cache = n >= beyond_cache_spheres();
   const bool fused = beyond_cache;  // else the completion is a second loop over the blocks
-  deferred_end_.assign(blocks, 0);  // per chunk's first block: the end of the spheres left for after the barrier
-  std::uint32_t* const deferred_end = deferred_end_.data();
   // Entry k (owner i, partner j, d = x_i - x_j) touches: its pair goes into the batch's slot b.
   auto gather = [&](PairBatch<Rolling>& batch, int b, std::uint32_t k, std::uint32_t i, std::uint32_t j, Vec3 d,
                     double dist2, double rsum, double ri, Vec3 vi, Vec3 wi, double mass_i, double inertia_i, int row) {
@@ -357,7 +379,19 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
         if (probe != 0) bad = std::min<std::int64_t>(bad, static_cast<std::int64_t>(i));
       }
     };
-    std::size_t done = 0;  // spheres of this chunk before it are completed or left for after the barrier
+    // This thread's blocks [mine, mine_end), spheres [first, end).
+    const int threads = omp_get_num_threads(), thread = omp_get_thread_num();
+    const bool as_split = threads == work_split_.threads();
+    std::size_t mine = 0, mine_end = 0;
+    if (as_split) {
+      mine = work_split_.first(thread), mine_end = work_split_.last(thread);
+    } else {
+      equal_share(blocks, threads, thread, mine, mine_end);
+    }
+    const std::size_t first = std::min(n, mine * kPassBlock), end = std::min(n, mine_end * kPassBlock);
+    // Spheres before `done` are completed, or left for after the barrier: [first, deferred).
+    const std::size_t deferred = first < end ? std::min<std::size_t>(end, nl.reach_before(first)) : first;
+    std::size_t done = std::max(first, deferred);
     // A full batch evaluated: the spheres before the owner of its last contact are complete. Their
     // wall slots, the one thing of theirs the pair front has not touched, are fetched first, to
     // arrive while the batch is evaluated.
@@ -372,27 +406,9 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
       flush_pairs(batch, dt, p, nl, open, worst_ratio, stiff_pair);
       if (fused && open.slot < n && open.slot > done) complete(done, open.slot), done = open.slot;
     };
-    std::size_t chunk_first = blocks, next_block = blocks;  // this thread's chunk: first block, and the one after it
-    auto end_chunk = [&]() {
-      if (chunk_first == blocks) return;
-      const std::size_t lo = chunk_first * kPassBlock, hi = std::min(n, next_block * kPassBlock);
-      flush_pairs(batch, dt, p, nl, open, worst_ratio, stiff_pair);
-      if (open.slot < n) force[open.slot] = open.force, torque[open.slot] = open.torque;
-      open = {n, {}, {}};
-      if (!fused) return;
-      const std::size_t deferred = std::min<std::size_t>(hi, nl.reach_before(lo));
-      if (deferred > lo) deferred_end[chunk_first] = static_cast<std::uint32_t>(deferred);
-      if (hi > done) complete(done, hi), done = hi;
-    };
-#pragma omp for schedule(guided, 2) nowait
-    for (std::size_t block = 0; block < blocks; ++block) {
+    double busy = -omp_get_wtime();  // this thread's seconds in its blocks, for the next split
+    for (std::size_t block = mine; block < mine_end; ++block) {
       const std::size_t lo = block * kPassBlock, hi = std::min(n, lo + kPassBlock);
-      if (block != next_block) {  // a chunk begins
-        end_chunk();
-        chunk_first = block;
-        done = std::max<std::size_t>(lo, nl.reach_before(lo));
-      }
-      next_block = block + 1;
       for (std::size_t i = lo; i < hi; ++i) force[i] = {}, torque[i] = {};
       int b = batch.size;  // in a register, stored back before a flush
       if (!beyond_cache) {
@@ -471,18 +487,20 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
       }
       batch.size = b;
     }
-    end_chunk();
+    flush_pairs(batch, dt, p, nl, open, worst_ratio, stiff_pair);
+    if (open.slot < n) force[open.slot] = open.force, torque[open.slot] = open.torque;
+    if (fused && end > done) complete(done, end);
+    busy += omp_get_wtime();
 #pragma omp barrier
+    busy -= omp_get_wtime();
     if (fused) {
-      // The first spheres of the chunks, whose pairs with owners before their chunk are all evaluated now.
-#pragma omp for schedule(static) nowait
-      for (std::size_t block = 0; block < blocks; ++block) {
-        if (deferred_end[block] > 0) complete(block * kPassBlock, deferred_end[block]);
-      }
+      // The first spheres of the range, whose pairs with owners before it are all evaluated now.
+      if (deferred > first) complete(first, deferred);
     } else {
-#pragma omp for schedule(guided, 2) nowait
-      for (std::size_t block = 0; block < blocks; ++block) complete(block * kPassBlock, std::min(n, (block + 1) * kPassBlock));
+      complete(first, end);
     }
+    busy += omp_get_wtime();
+    if (as_split) work_split_.report(thread, busy);
     flush_walls(wall_batch, dt, p, ws, bad);
     wall_contacts += ws.contacts;
     overflow = std::min(overflow, ws.overflow);
@@ -490,6 +508,7 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
     stiff_wall = std::max(stiff_wall, ws.stiffness_per_mass);
   }
 
+  work_split_.step_done();
   ForceDiagnostics d;
   d.contacts = contacts;
   d.wall_contacts = wall_contacts;

@@ -31,6 +31,7 @@
 #include "dem/uninitialized_array.hpp"
 #include "dem/wall.hpp"
 #include "dem/wall_slots.hpp"
+#include "dem/work_split.hpp"
 
 namespace grainscale::dem {
 
@@ -162,9 +163,11 @@ class ForceField {
   // that stays apart costs no writes to its history (the entry loop for beds in the caches writes
   // nothing for it at all). Rebuilt from the histories when the list changes (generation).
   std::vector<std::uint8_t> touching_;
-  // Per block of the force loop: if a chunk of blocks begins there, the end of its first spheres,
-  // completed after the barrier (their pairs with owners before the chunk are evaluated then); else 0.
-  std::vector<std::uint32_t> deferred_end_;
+  // Which thread takes which blocks of the force loop (dem/work_split.hpp): split by block_cost_,
+  // estimated again at each list build and when the near-wall masks are made again (split_stale_).
+  WorkSplit work_split_;
+  std::vector<double> block_cost_;
+  bool split_stale_ = true;
   std::uint64_t list_generation_ = ~std::uint64_t{0};
   // near_walls_[i] bit w: wall w (w < kMaskedWalls) may touch sphere i before the masks are made
   // again: at each list build, and when a wall has moved further than its margin (find_near_walls
