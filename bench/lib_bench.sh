@@ -2,7 +2,7 @@
 # run_scaling.sh, run_platform_rate.sh.
 # Before sourcing, set BENCH_NAME (message prefix). Provides:
 #   HERE ROOT NCPU HZ; die say; need_grainscale (sets GS); need_liggghts (sets LIGGGHTS, MPIRUN);
-#   busy_jiffies other_cpu_percent wait_idle (IDLE_WAIT, IDLE_MAX); run_logged LOG CMD...;
+#   busy_jiffies other_cpu_percent wait_idle (IDLE_WAIT, IDLE_MAX); core_round_trip; run_logged LOG CMD...;
 #   yaml_with FILE OUT KEY=VALUE... (a copy of a scenario with keys replaced, paths made absolute).
 
 HERE="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
@@ -102,17 +102,32 @@ wait_idle() {
   done
 }
 
+# core_round_trip: ns a cache line takes from the first CPU to the second and back (bench/core_round_trip.c,
+# compiled once into a temporary folder); "nan" with one CPU or no C compiler. On the VMs grainscale is
+# measured on it moves between ~100 and ~480 ns within minutes, and a second thread's gain with it:
+# every timed run records it.
+core_round_trip() {
+  if [[ -z "${CORE_RT_BIN:-}" ]]; then
+    CORE_RT_BIN="$(mktemp -d)/core_round_trip"
+    cc -O2 -pthread "$HERE/core_round_trip.c" -o "$CORE_RT_BIN" 2>/dev/null || CORE_RT_BIN=false
+  fi
+  if [[ "$CORE_RT_BIN" == false ]]; then echo nan; else "$CORE_RT_BIN" 2>/dev/null || echo nan; fi
+}
+
 # run_logged LOG CMD...: runs CMD with stdout+stderr to LOG; writes to LOG.load the wall time, own CPU,
-# own peak resident memory (of the largest process) and the CPU that other processes used meanwhile
+# own peak resident memory (of the largest process), the CPU that other processes used meanwhile and
+# the core round trip just before (core_round_trip)
 run_logged() {
   local log="$1"; shift
-  local a b t0 t1 rc=0
+  local a b t0 t1 rt rc=0
+  rt="$(core_round_trip)"
   a=($(busy_jiffies)); t0="$(date +%s.%N)"
   /usr/bin/time -f 'OWN_CPU_S %U %S MAXRSS_KB %M' -o "$log.cpu" "$@" >"$log" 2>&1 || rc=$?
   t1="$(date +%s.%N)"; b=($(busy_jiffies))
-  python3 - "$log" "$t0" "$t1" "${a[0]}" "${b[0]}" "$HZ" <<'PY'
+  python3 - "$log" "$t0" "$t1" "${a[0]}" "${b[0]}" "$HZ" "$rt" <<'PY'
 import sys
 log, t0, t1, a, b, hz = sys.argv[1], float(sys.argv[2]), float(sys.argv[3]), int(sys.argv[4]), int(sys.argv[5]), int(sys.argv[6])
+rt = sys.argv[7]
 own, rss = 0.0, 0
 try:
     for line in open(log + ".cpu"):
@@ -122,7 +137,7 @@ except (OSError, IndexError, ValueError):
     pass
 wall = t1 - t0
 other = max(0.0, ((b - a) / hz - own) / wall) if wall > 0 else 0.0
-open(log + ".load", "w").write(f"wall_s {wall:.2f} own_cpu_s {own:.2f} maxrss_kb {rss} other_cores {other:.2f}\n")
+open(log + ".load", "w").write(f"wall_s {wall:.2f} own_cpu_s {own:.2f} maxrss_kb {rss} other_cores {other:.2f} core_round_trip_ns {rt}\n")
 PY
   return $rc
 }

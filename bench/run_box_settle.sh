@@ -155,13 +155,13 @@ for log in sorted(glob.glob(f"{out}/grainscale_t*_r*.log")):
     m = re.search(r"^threads (\d+): (\d+) steps in ([0-9.]+) s = ([0-9.]+) M sphere-steps/s", open(log).read(), re.M)
     if m:
         print(f"  grainscale {m.group(1)} thread(s): {m.group(2)} steps in {m.group(3)} s = {m.group(4)} M sphere-steps/s"
-              f"   [{os.path.basename(log)}; other load {load(log).get('other_cores', '?')} cores]")
+              f"   [{os.path.basename(log)}; other load {load(log).get('other_cores', '?')} cores, core round trip {load(log).get('core_round_trip_ns', '?')} ns]")
 for log in sorted(glob.glob(f"{out}/liggghts_np*_r*.log")):
     loops = re.findall(r"^Loop time of ([0-9.eE+-]+) on (\d+) procs for (\d+) steps with (\d+) atoms", open(log).read(), re.M)
     if len(loops) >= 2:
         t, p, ns, na = loops[-1]
         print(f"  LIGGGHTS {p} process(es): {ns} steps x {na} atoms in {t} s = {int(ns) * int(na) / float(t) / 1e6:.3f} M sphere-steps/s"
-              f"   [{os.path.basename(log)}; other load {load(log).get('other_cores', '?')} cores]")
+              f"   [{os.path.basename(log)}; other load {load(log).get('other_cores', '?')} cores, core round trip {load(log).get('core_round_trip_ns', '?')} ns]")
 
 # settled-state check
 print()

@@ -240,7 +240,7 @@ print("every timed run (raw):")
 for log in sorted(glob.glob(f"{out}/grainscale_*t*_r*.log")) + sorted(glob.glob(f"{out}/liggghts_*np*_r*.log")):
     x = (gs_run if "grainscale" in os.path.basename(log) else lg_run)(log)
     if x:
-        print(f"  {os.path.basename(log):32} {x['rate'] / 1e6:8.3f} M sphere-steps/s in {x['s']:.2f} s   other load {load(log).get('other_cores', '?')} cores")
+        print(f"  {os.path.basename(log):32} {x['rate'] / 1e6:8.3f} M sphere-steps/s in {x['s']:.2f} s   other load {load(log).get('other_cores', '?')} cores, core round trip {load(log).get('core_round_trip_ns', '?')} ns")
 print("end of the timed steps (the same state for every count of a code: a run that disagrees misbehaved):")
 for log in sorted(glob.glob(f"{out}/grainscale_*t*_r*.log")):
     t = open(log).read()

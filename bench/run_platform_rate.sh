@@ -79,9 +79,10 @@ for r in range(1, repeats + 1):
     problem = problem or (re.search(r"^problem: .*$", t, re.M) or [""])[0]
     mem = mem or (re.search(r"^memory: .*$", t, re.M) or [""])[0]
     try:
-        other = dict(zip(*[iter(open(f"{out}/timed_r{r}.log.load").read().split())] * 2)).get("other_cores", "?")
+        ld = dict(zip(*[iter(open(f"{out}/timed_r{r}.log.load").read().split())] * 2))
     except OSError:
-        other = "?"
+        ld = {}
+    other = f"{ld.get('other_cores', '?')} / {ld.get('core_round_trip_ns', '?')} ns"
     for m in re.finditer(r"^threads (\d+): (\d+) steps in ([0-9.]+) s = ([0-9.]+) M sphere-steps/s", t, re.M):
         th, steps, sec, rate = int(m.group(1)), int(m.group(2)), float(m.group(3)), float(m.group(4))
         if th not in best or sec < best[th][1]:
@@ -91,12 +92,13 @@ print(f"platform_800mm (2x, studies/platform_800mm/scenario.yaml), poured state 
 print(f"time step: {dt:.4g} s (automatic: step_fraction {frac.group(1) if frac else '?'} of the Rayleigh time of the "
       f"smallest sphere, a chaff flake's), skin {float(s['skin_m']) * 1000:.3g} mm")
 print(problem); print(mem)
-print(f"{'threads':>7} {'steps':>6} {'wall s':>8} {'M sph-st/s':>10} {'sim s / wall h':>14} {'1800 s takes':>12} {'other load':>10}")
+print(f"{'threads':>7} {'steps':>6} {'wall s':>8} {'M sph-st/s':>10} {'sim s / wall h':>14} {'1800 s takes':>12} {'other load / core round trip':>28}")
 for th in sorted(best):
     steps, sec, rate, other = best[th]
     per_hour = steps * dt / sec * 3600
-    print(f"{th:>7} {steps:>6} {sec:8.2f} {rate:10.3f} {per_hour:14.3f} {1800 / per_hour / 24:10.1f} d {other:>10}")
+    print(f"{th:>7} {steps:>6} {sec:8.2f} {rate:10.3f} {per_hour:14.3f} {1800 / per_hour / 24:10.1f} d {other:>28}")
 print("(best of the repeats; timed with the platform moving, from the poured, not yet fully settled, bed; other load:")
-print(" cores used by other processes meanwhile, > 0.2 disturbs the figure)")
+print(" cores used by other processes meanwhile, > 0.2 disturbs the figure; core round trip: ns a cache line took")
+print(" between the first two CPUs and back just before, bench/core_round_trip.c: what a second thread gains depends on it)")
 PY
 say "logs and results.txt in $OUT"

@@ -172,6 +172,7 @@ for n in sizes:
                 cps=int(p.group(4)) / ns if p else float("nan"), b=float(mem.group(1)) if mem else float("nan"),
                 resident=float(res.group(1)) if res else float("nan"),
                 rss=int(ld.get("maxrss_kb", 0)) * 1024, other=float(ld.get("other_cores", "nan")),
+                rt=float(ld.get("core_round_trip_ns", "nan")),
                 per_build=int(m.group(2)) / max(1, int(m.group(5))),
                 ke=float(end.group(1)) / ns if end else float("nan"),
                 entries=float(lst.group(2)) if lst else float("nan")))
@@ -182,20 +183,20 @@ for th, by_n in runs.items():
             continue
         rr = sorted(by_n[n], key=lambda x: -x["rate"])  # fastest first
         row = dict(rr[len(rr) // 2], rounds=len(rr), spread=rr[0]["rate"] / rr[-1]["rate"] - 1,
-                   other=max(x["other"] for x in rr))
+                   other=max(x["other"] for x in rr), rt_lo=min(x["rt"] for x in rr), rt_hi=max(x["rt"] for x in rr))
         rows.setdefault(th, []).append(row)
 print("cost against particle count (box_settle bed, box scaled in x and y at constant depth)")
 print("\ngrainscale (each size timed in every round; per size the median round (of an even number, the slower")
-print(" middle one), the spread of the rounds (slowest time / fastest - 1) and the most other load seen in any round)")
+print(" middle one), the spread of the rounds (slowest time / fastest - 1), the most other load seen in any round and the range of core round trips (bench/core_round_trip.c))")
 for th in sorted(rows):
     print(f"\n{th} thread(s):")
     print(f"{'N':>9} {'steps':>6} {'s':>8} {'M sph-st/s':>10} {'ns/sph-st':>9} {'rounds':>6} {'spread':>6} {'contacts/sph':>12} "
           f"{'entries/sph':>11} {'steps/build':>11} {'KE/sph J':>9} {'B/sphere':>8} {'RSS B/sph':>9} {'peak RSS MiB':>12} "
-          f"{'other load':>10}")
+          f"{'other load':>10} {'round trip ns':>13}")
     for r in rows[th]:
         print(f"{r['n']:>9} {r['steps']:>6} {r['s']:8.2f} {r['rate'] / 1e6:10.3f} {1e9 / r['rate']:9.1f} {r['rounds']:6d} "
               f"{100 * r['spread']:5.0f}% {r['cps']:12.2f} {r['entries']:11.2f} {r['per_build']:11.0f} {r['ke']:9.2e} "
-              f"{r['b']:8.0f} {r['resident']:9.0f} {r['rss'] / 2**20:12.0f} {r['other']:10.2f}")
+              f"{r['b']:8.0f} {r['resident']:9.0f} {r['rss'] / 2**20:12.0f} {r['other']:10.2f} {r['rt_lo']:6.0f}-{r['rt_hi']:<6.0f}")
     done = [n for n in sizes if n in runs[th]]
     rounds = min(len(runs[th][n]) for n in done)
     if len(done) > 1:
