@@ -247,6 +247,7 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
     split_stale_ = true;
   }
   const std::size_t blocks = (n + kPassBlock - 1) / kPassBlock;
+  split_stale_ |= block_cost_.size() != blocks;  // (spheres are only added with a new list: belt and braces)
   if (split_stale_) {  // each block's estimated cost: its spheres, the entries they own, those near a wall
     block_cost_.resize(blocks);
     const std::uint32_t* const first = nl.starts().data();
