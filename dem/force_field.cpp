@@ -254,7 +254,7 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
     for (std::size_t b = 0; b < blocks; ++b) {
       const std::size_t lo = b * kPassBlock, hi = std::min(n, lo + kPassBlock);
       std::size_t near = 0;
-      for (std::size_t i = lo; i < hi; ++i) near += near_walls_[i] != 0 || walls.size() > kMaskedWalls;
+      for (std::size_t i = lo; i < hi; ++i) near += wall_in_reach(i, walls.size());
       block_cost_[b] = kSphereCost * static_cast<double>(hi - lo) + kEntryCost * (first[hi] - first[lo]) +
                        kWallSphereCost * static_cast<double>(near);
     }
@@ -355,7 +355,7 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
     // Whether sphere i's wall contacts must be looked for: most of a bed has no wall within reach
     // and had no wall contact.
     auto near_a_wall = [&](std::size_t i) {
-      return before_count[i] > 0 || near_walls_[i] != 0 || walls.size() > kMaskedWalls;
+      return before_count[i] > 0 || wall_in_reach(i, walls.size());
     };
     auto complete = [&](std::size_t from, std::size_t to) {
       for (std::uint32_t r = rev_start[from], last = rev_start[to]; r < last; ++r) {

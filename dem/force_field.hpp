@@ -182,6 +182,8 @@ class ForceField {
   /// at_build: the list was just built, so every sphere is where the list has it.
   void find_near_walls(const Particles& p, const std::vector<Wall>& walls, const NeighborList& nl, bool at_build);
   bool walls_where_found(const std::vector<Wall>& walls) const;
+  /// Some wall may touch sphere i before the masks are made again (of `walls` walls).
+  bool wall_in_reach(std::size_t i, std::size_t walls) const { return near_walls_[i] != 0 || walls > kMaskedWalls; }
   // Wall-contact histories, this step's and last step's (double buffer: no copy of a sphere's old
   // slots, which perf showed stalling on the stores it had just made), slot-major: dem/wall_slots.hpp.
   WallSlots wall_slots_;

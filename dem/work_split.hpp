@@ -66,12 +66,13 @@ class WorkSplit {
 
   /// Thread t's time for its blocks this step (each thread writes its own cache line).
   void report(int t, double seconds) { seconds_[t].seconds += seconds; }
-  /// After a step's reports are in (one thread, after the loop).
-  void step_done() { ++steps_; }
+  /// After a step's reports are in (one thread, after the loop). A team of one has nothing to balance.
+  void step_done() { steps_ += threads() > 1; }
 
   /// True when, over at least kSteps steps, the slowest thread took more than kTolerance longer than
-  /// the mean: then each thread's share becomes proportional to its measured speed, and the caller
-  /// splits again.
+  /// the mean: then each thread's share becomes proportional to its measured speed (at least
+  /// kMinShare of an equal share, so that a thread slowed for a while, a preempted vCPU, keeps blocks
+  /// to be measured on), and the caller splits again.
   bool rebalance() {
     const int threads = this->threads();
     if (threads < 2 || steps_ < kSteps) return false;
@@ -85,13 +86,16 @@ class WorkSplit {
     }
     double sum = 0;
     for (int t = 0; t < threads; ++t) sum += shares_[t] = assigned_[t] / seconds_[t].seconds;
-    for (double& s : shares_) s /= sum;
+    double floored = 0;
+    for (double& s : shares_) floored += s = std::max(s / sum, kMinShare / threads);
+    for (double& s : shares_) s /= floored;
     return true;
   }
 
  private:
   static constexpr int kSteps = 32;             // steps measured before a split is judged
   static constexpr double kTolerance = 0.03;    // the slowest thread's excess over the mean tolerated
+  static constexpr double kMinShare = 0.25;     // the least share, as a fraction of an equal one
   struct alignas(64) Report {
     double seconds = 0;
   };
@@ -99,7 +103,7 @@ class WorkSplit {
   std::vector<std::uint32_t> bounds_{0, 0};
   std::vector<double> assigned_;     // the cost each thread was given
   std::vector<Report> seconds_;      // and the seconds it took, since the split
-  int steps_ = 0;
+  int steps_ = 0;                    // steps measured since the split (teams of two or more)
 };
 
 /// Thread t's blocks [first, last) of `blocks` split equally: for a team that is not the size the

@@ -6,6 +6,7 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <numeric>
 #include <random>
@@ -83,6 +84,13 @@ TEST_CASE("The split follows the threads' measured speeds, and leaves a balanced
     run_steps(64, 1e-6, 2e-6);
     CHECK_FALSE(split.rebalance());
     CHECK(split.last(0) == 667);
+  }
+  SECTION("a thread slowed a hundredfold keeps blocks to be measured on") {
+    run_steps(64, 1e-6, 1e-4);
+    REQUIRE(split.rebalance());
+    split.split(cost, 2);
+    CHECK(split.last(1) - split.first(1) >= 100);  // at least a quarter of an equal share, 125 blocks
+    CHECK(split.last(1) - split.first(1) < 200);
   }
   SECTION("within the tolerance the split stays") {
     run_steps(64, 1e-6, 1.02e-6);
