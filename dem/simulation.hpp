@@ -112,7 +112,10 @@ class Simulation {
     return particles_;
   }
   /// The rigid bodies (what is integrated).
-  const Bodies& bodies() const { return bodies_; }
+  const Bodies& bodies() const {
+    if (body_omega_lags_) update_body_omega();
+    return bodies_;
+  }
   const std::vector<std::string>& shape_names() const { return shape_names_; }
   std::vector<Wall>& walls() { return walls_; }
   const std::vector<Wall>& walls() const { return walls_; }
@@ -156,6 +159,7 @@ class Simulation {
   const MassProperties& mass_properties_of(const Shape& shape);
   void drift(double dt);                   // half kick, drift, spheres follow
   void update_sphere_state() const;
+  void update_body_omega() const;
   void move_spheres_with_bodies();
   void index_spheres_by_body();
   void renumber_bodies();
@@ -181,6 +185,7 @@ class Simulation {
   std::vector<std::pair<std::vector<SphereComponent>, MassProperties>> mass_cache_;
   bool ready_ = false;
   mutable bool sphere_state_lags_ = false;  // the spheres' q, v, omega are behind their bodies'
+  mutable bool body_omega_lags_ = false;    // the bodies' omega is behind their L (the kick leaves it)
 };
 
 }  // namespace grainscale::dem
