@@ -126,6 +126,7 @@ class Simulation {
   /// Per-body step stability at the last check, and the worst seen since setup (dem/step_stability.hpp).
   const StepStability& stability() const { return stability_; }
   const StepStability& worst_stability() const { return worst_stability_; }
+  const StepStabilityMonitor& stability_monitor() const { return stability_monitor_; }
   /// Check step stability now (also done every settings().stability_interval steps).
   const StepStability& check_stability();
 

@@ -56,6 +56,8 @@ class StepStabilityMonitor {
 
   StepStability assess(const Particles& p, const Bodies& b, const NeighborList& nl, const std::vector<Wall>& walls,
                        const ForceField& forces, double dt);
+  /// Per body, the last assess()'s stage-1 bound on Omega^2 (0 for a body without contacts).
+  const std::vector<double>& omega2_bounds() const { return omega2_; }
 
  private:
   struct Spring {  // one contact as seen by one body
@@ -65,6 +67,13 @@ class StepStabilityMonitor {
   template <class Visit>
   void for_each_contact(const Particles& p, const Bodies& b, const NeighborList& nl, const std::vector<Wall>& walls,
                         const ForceField& forces, Visit&& visit) const;
+  template <class Visit>
+  void for_each_pair_contact(const Particles& p, const Bodies& b, const NeighborList& nl, const ForceField& forces,
+                             std::size_t k0, std::size_t k1, Visit&& visit) const;
+  template <class Visit>
+  void for_each_wall_contact(const Particles& p, const Bodies& b, const std::vector<Wall>& walls,
+                             const ForceField& forces, const std::uint32_t* near, std::size_t i0, std::size_t i1,
+                             Visit&& visit) const;
 
   /// A body's compliance at a contact without turning the lever into the body frame each time:
   /// 1/m + c^T I_world^-1 c for c = r x n, with I_world^-1 = R diag(1/I) R^T made once per check.
@@ -81,6 +90,12 @@ class StepStabilityMonitor {
   std::vector<double> omega2_, damping_rate_;  // per body, reused between calls
   std::vector<int> count_, suspect_;           // suspect_[b]: index into springs_start_ or -1
   std::vector<std::vector<Spring>> springs_;   // per suspect body
+  struct Term {  // one contact's stage-1 terms for one of its bodies
+    std::uint32_t body;
+    double stiffness, damping;
+  };
+  // Stage 1's terms, per thread, in the order found: [thread] the pairs', [team + thread] the walls'.
+  std::vector<std::vector<Term>> terms_;
 };
 
 /// "margin 1.3 at body id 17 (4 spheres, 8 contacts, ...): Omega dt = 0.9, damping ratio 1.5" for

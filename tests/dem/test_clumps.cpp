@@ -177,6 +177,48 @@ TEST_CASE("A bed of clumps settles identically on 1 and 2 threads", "[dem][clump
   CHECK(std::memcmp(one.data(), two.data(), one.size() * sizeof(Vec3)) == 0);
 }
 
+TEST_CASE("The step-stability check of a clump bed is the same, bit for bit, on 1, 2 and 3 threads",
+          "[dem][clump][stability][determinism]") {
+  // Stage 1 makes each contact's terms in parallel and adds them in one fixed order
+  // (dem/step_stability.cpp): any thread count gives the same per-body sums, hence the same worst body.
+  const testing::ParallelEverything guard;
+  omp_set_num_threads(1);
+  Simulation sim(grain_and_floor(0.5, 0.35, 0.08), {});
+  const Shape s = wheat();
+  for (int i = 0; i < 6; ++i)
+    for (int j = 0; j < 6; ++j)
+      for (int k = 0; k < 5; ++k) {  // tilted every way, in a column that falls into a heap
+        const Vec3 axis{1, 0.3 * i - 0.7, 0.2 * j + 0.1 * k};
+        sim.add_clump(s, 0, 1380, {0.0072 * i, 0.0072 * j, 0.004 + 0.0075 * k},
+                      axis_angle((1 / norm(axis)) * axis, 0.4 * (i + 2 * j + 3 * k)));
+      }
+  sim.add_wall("floor", std::make_shared<PlaneGeometry>(Vec3{0, 0, 0}, Vec3{0, 0, 1}), 1);
+  sim.add_wall("x0", std::make_shared<PlaneGeometry>(Vec3{-0.004, 0, 0}, Vec3{1, 0, 0}), 1);
+  sim.add_wall("x1", std::make_shared<PlaneGeometry>(Vec3{0.04, 0, 0}, Vec3{-1, 0, 0}), 1);
+  sim.add_wall("y0", std::make_shared<PlaneGeometry>(Vec3{0, -0.004, 0}, Vec3{0, 1, 0}), 1);
+  sim.add_wall("y1", std::make_shared<PlaneGeometry>(Vec3{0, 0.04, 0}, Vec3{0, -1, 0}), 1);
+  sim.run_steps(25000);  // fallen into a heap: pairs and floor contacts
+  const StepStability one = sim.check_stability();
+  const std::vector<double> bounds = sim.stability_monitor().omega2_bounds();
+  INFO("contacts " << sim.diagnostics().contacts << ", wall contacts " << sim.diagnostics().wall_contacts);
+  REQUIRE(sim.diagnostics().contacts > 50);
+  REQUIRE(sim.diagnostics().wall_contacts > 30);
+  for (int threads : {2, 3, 4}) {
+    omp_set_num_threads(threads);
+    const StepStability many = sim.check_stability();
+    const std::vector<double>& many_bounds = sim.stability_monitor().omega2_bounds();
+    REQUIRE(many_bounds.size() == bounds.size());
+    CHECK(std::memcmp(many_bounds.data(), bounds.data(), bounds.size() * sizeof(double)) == 0);
+    INFO(threads << " threads: margin " << many.margin << " at body " << many.body << ", 1 thread " << one.margin
+                 << " at body " << one.body);
+    CHECK(std::memcmp(&many.margin, &one.margin, sizeof(double)) == 0);
+    CHECK(std::memcmp(&many.zeta, &one.zeta, sizeof(double)) == 0);
+    CHECK(many.body == one.body);
+    CHECK(many.contacts == one.contacts);
+  }
+  omp_set_num_threads(2);
+}
+
 namespace {
 
 struct Landing {
