@@ -177,7 +177,7 @@ TEST_CASE("A bed of clumps settles identically on 1 and 2 threads", "[dem][clump
   CHECK(std::memcmp(one.data(), two.data(), one.size() * sizeof(Vec3)) == 0);
 }
 
-TEST_CASE("The step-stability check of a clump bed is the same, bit for bit, on 1, 2 and 3 threads",
+TEST_CASE("The step-stability check of a clump heap is the same, bit for bit, on 1 to 4 threads",
           "[dem][clump][stability][determinism]") {
   // Stage 1 makes each contact's terms in parallel and adds them in one fixed order
   // (dem/step_stability.cpp): any thread count gives the same per-body sums, hence the same worst body.
