@@ -1,5 +1,6 @@
 #include "dem/step_stability.hpp"
 #include "dem/parallel.hpp"
+#include "dem/work_split.hpp"
 
 #include <omp.h>
 
@@ -132,24 +133,26 @@ StepStability StepStabilityMonitor::assess(const Particles& p, const Bodies& b, 
     const std::uint32_t* const near = forces.near_wall_masks(walls, nl, n);
 #pragma omp parallel num_threads(team)
     {
-      const std::size_t threads = static_cast<std::size_t>(omp_get_num_threads());
-      const std::size_t t = static_cast<std::size_t>(omp_get_thread_num());
-      std::vector<Term>& pair_terms = terms_[t];
-      std::vector<Term>& wall_terms = terms_[team + t];
+      const int threads = omp_get_num_threads(), t = omp_get_thread_num();
+      std::vector<Term>& pair_terms = terms_[static_cast<std::size_t>(t)];
+      std::vector<Term>& wall_terms = terms_[static_cast<std::size_t>(team + t)];
       pair_terms.clear(), wall_terms.clear();
       auto keep_in = [](std::vector<Term>& out) {
         return [&out](std::uint32_t body, double stiffness, double damping) { out.push_back({body, stiffness, damping}); };
       };
-      for_each_pair_contact(p, b, nl, forces, entries * t / threads, entries * (t + 1) / threads,
-                            terms(keep_in(pair_terms)));
-      for_each_wall_contact(p, b, walls, forces, near, n * t / threads, n * (t + 1) / threads,
-                            terms(keep_in(wall_terms)));
+      std::size_t first = 0, last = 0;
+      equal_share(entries, threads, t, first, last);
+      for_each_pair_contact(p, b, nl, forces, first, last, terms(keep_in(pair_terms)));
+      equal_share(n, threads, t, first, last);
+      for_each_wall_contact(p, b, walls, forces, near, first, last, terms(keep_in(wall_terms)));
 #pragma omp barrier
 #pragma omp single
       {
         for (int pass = 0; pass < 2; ++pass) {  // the pairs', then the walls'
-          for (std::size_t u = 0; u < threads; ++u) {
-            for (const Term& term : terms_[pass * team + u]) add(term.body, term.stiffness, term.damping);
+          for (int u = 0; u < threads; ++u) {
+            for (const Term& term : terms_[static_cast<std::size_t>(pass * team + u)]) {
+              add(term.body, term.stiffness, term.damping);
+            }
           }
         }
       }
