@@ -84,29 +84,7 @@ yaml_with "$YAML" "$SCEN_FIXED" "end=$SETTLE" "count=$CLUMPS" "skin=$GS_SKIN"
 NPER=$(( GS_N / GS_B ))
 say "problem: $GS_B clumps x $NPER spheres = $GS_N spheres, dt = $GS_DT s, fixed skin = $GS_SKIN m, settled $SETTLE s"
 
-# ---------------------------------------------------------------- 2. grainscale: timed
-# (from the same checkpoint: under the fixed-skin scenario the list is rebuilt with that skin at the
-# first warm-up step)
-for n in $COUNTS; do
-  for r in $(seq 1 "$REPEATS"); do
-    for variant in adaptive fixed; do
-      wait_idle
-      if [[ $variant == adaptive ]]; then log="$OUT/grainscale_t${n}_r${r}.log" scen="$SCEN"
-      else log="$OUT/grainscale_fixedskin_t${n}_r${r}.log" scen="$SCEN_FIXED"; fi
-      say "grainscale bench, $variant skin, $n thread(s), repeat $r: $STEPS timed steps from the settled state -> $log"
-      run_logged "$log" "$GS" bench "$scen" --steps "$STEPS" --threads "$n" --settled "$CKPT" \
-        || die "grainscale bench failed (exit $?); see $log"
-      grep -E '^threads' "$log" >&2 || die "no 'threads N:' line in $log"
-    done
-  done
-done
-# the skin grainscale's adaptive runs ended with (the same for every count: the state is bit for bit)
-FIRST_COUNT="${COUNTS%% *}"
-GS_THIN="$(sed -nE 's/^threads [0-9]+: neighbour list at the end: skin ([0-9.eE+-]+) m.*/\1/p' "$OUT/grainscale_t${FIRST_COUNT}_r1.log" | head -1)"
-[[ -n "$GS_THIN" ]] || die "no 'neighbour list at the end' line in $OUT/grainscale_t${FIRST_COUNT}_r1.log"
-say "grainscale's adaptive skin at the end of its timed steps: $GS_THIN m (fixed: $GS_SKIN m)"
-
-# ---------------------------------------------------------------- 3. LIGGGHTS: settle once, then timed
+# ---------------------------------------------------------------- 2. LIGGGHTS: settle once
 # the clump: grainscale's shape file (x y z r, in its length unit) scaled like grainscale scales it
 read -r UNIT < <(python3 - "$SHAPE" "$OUT/wheat.multisphere" <<'PY'
 import re, sys
@@ -130,15 +108,40 @@ rm -f "$OUT/liggghts_settled.restart"
 (cd "$OUT" && run_logged "$OUT/liggghts_settle.log" "$LIGGGHTS" -in "$LIG_IN" -log none -echo none \
     "${LIG_VARS[@]}" -var skin "$GS_SKIN" -var mode 1 -var px 1) || die "LIGGGHTS settle failed; see $OUT/liggghts_settle.log"
 grep -E '^SETTLED' "$OUT/liggghts_settle.log" >&2 || die "no SETTLED line in $OUT/liggghts_settle.log"
-for n in $COUNTS; do
-  launcher=()
-  if (( n > 1 )); then
-    if (( ${#MPIRUN[@]} == 0 )); then say "skipping LIGGGHTS with $n processes (no MPI)"; continue; fi
-    launcher=("${MPIRUN[@]}" -np "$n")
-    if (( n > NCPU )); then launcher+=(--oversubscribe); fi
-  fi
-  skins=(fixed); if [[ "$THIN" == 1 ]]; then skins+=(thin); fi
-  for r in $(seq 1 "$REPEATS"); do
+# ---------------------------------------------------------------- 3. both codes timed, run by run
+# Interleaved: in each repeat, for each count, grainscale (adaptive, then fixed skin) and right after
+# it LIGGGHTS (fixed, then thin skin). This VM's speed drifts by up to 2x within minutes; timed one code's
+# runs after the other's, the two sides of a ratio would be minutes apart. So the runs of a ratio are
+# seconds apart, and each repeat gives a paired ratio besides the best-of-the-repeats one.
+GS_THIN=""
+FIRST_COUNT="${COUNTS%% *}"
+skins=(fixed); if [[ "$THIN" == 1 ]]; then skins+=(thin); fi
+for r in $(seq 1 "$REPEATS"); do
+  for n in $COUNTS; do
+    # grainscale (from the same checkpoint: under the fixed-skin scenario the list is rebuilt with
+    # that skin at the first warm-up step)
+    for variant in adaptive fixed; do
+      wait_idle
+      if [[ $variant == adaptive ]]; then log="$OUT/grainscale_t${n}_r${r}.log" scen="$SCEN"
+      else log="$OUT/grainscale_fixedskin_t${n}_r${r}.log" scen="$SCEN_FIXED"; fi
+      say "grainscale bench, $variant skin, $n thread(s), repeat $r: $STEPS timed steps from the settled state -> $log"
+      run_logged "$log" "$GS" bench "$scen" --steps "$STEPS" --threads "$n" --settled "$CKPT" \
+        || die "grainscale bench failed (exit $?); see $log"
+      grep -E '^threads' "$log" >&2 || die "no 'threads N:' line in $log"
+    done
+    if [[ -z "$GS_THIN" ]]; then
+      # the skin grainscale's adaptive runs end with (the same for every count: the state is bit for bit)
+      GS_THIN="$(sed -nE 's/^threads [0-9]+: neighbour list at the end: skin ([0-9.eE+-]+) m.*/\1/p' "$OUT/grainscale_t${FIRST_COUNT}_r1.log" | head -1)"
+      [[ -n "$GS_THIN" ]] || die "no 'neighbour list at the end' line in $OUT/grainscale_t${FIRST_COUNT}_r1.log"
+      say "grainscale's adaptive skin at the end of its timed steps: $GS_THIN m (fixed: $GS_SKIN m)"
+    fi
+    # LIGGGHTS
+    launcher=()
+    if (( n > 1 )); then
+      if (( ${#MPIRUN[@]} == 0 )); then say "skipping LIGGGHTS with $n processes (no MPI)"; continue; fi
+      launcher=("${MPIRUN[@]}" -np "$n")
+      if (( n > NCPU )); then launcher+=(--oversubscribe); fi
+    fi
     for variant in "${skins[@]}"; do
       wait_idle
       if [[ $variant == fixed ]]; then log="$OUT/liggghts_np${n}_r${r}.log" skin="$GS_SKIN"
@@ -231,6 +234,37 @@ for kind, code, sk in rows:
     a, b = res.get((kind, counts[0])), res.get((kind, counts[-1]))
     if a and b and counts[-1] != counts[0]:
         print(f"{code} ({sk} skin) speed-up {counts[0]} -> {counts[-1]}: {b['rate'] / a['rate']:.2f}x")
+
+# Paired: the runs of one repeat, seconds apart (the script interleaves the codes), so a drift of the
+# VM's speed between repeats cancels; the median of the repeats' ratios.
+def run_of(kind, n, r):
+    log = f"{out}/{kind}_{'t' if kind.startswith('grainscale') else 'np'}{n}_r{r}.log"
+    return (gs_run if kind.startswith("grainscale") else lg_run)(log) if os.path.exists(log) else None
+
+def median(v):
+    v = sorted(v); m = len(v) // 2
+    return v[m] if len(v) % 2 else 0.5 * (v[m - 1] + v[m])
+
+def paired(a_kind, a_n, b_kind, b_n, scale):
+    ratios = []
+    for r in range(1, repeats + 1):
+        a, b = run_of(a_kind, a_n, r), run_of(b_kind, b_n, r)
+        if a and b: ratios.append(a["rate"] / b["rate"] * scale)
+    return ratios
+
+print()
+print("paired by repeat (each repeat's two runs seconds apart; the median of the repeats):")
+for a_kind, b_kind, what in pairs:
+    for n in counts:
+        v = paired(a_kind, n, b_kind, n, 1.0)
+        if v:
+            print(f"  grainscale / LIGGGHTS per core at {n} thread(s) / process(es), {what}: "
+                  f"{' '.join(f'{x:.2f}' for x in v)} -> median {median(v):.2f}")
+for kind, code, sk in rows:
+    if counts[-1] != counts[0]:
+        v = paired(kind, counts[-1], kind, counts[0], 1.0)
+        if v:
+            print(f"  {code} ({sk} skin) speed-up {counts[0]} -> {counts[-1]}: {' '.join(f'{x:.2f}' for x in v)} -> median {median(v):.2f}x")
 print("(other load: CPU cores used by other processes during the run; > 0.2 means the figure is disturbed.")
 print(" B/sphere: each code's own count (grainscale: arrays it holds; LIGGGHTS: 'Memory usage per processor' x")
 print(" processes, its estimate). RSS B/sph: peak resident memory of the largest process / spheres, libraries")
