@@ -296,54 +296,62 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
   // (dem/work_split.hpp: ranges of about equal time, so that a sphere's state stays on one core). A
   // thread cannot complete its first spheres whose pairs have owners before its range (slots [range
   // start, NeighborList::reach_before(range start))): they are completed after a barrier.
-  // (Plain local pointers: a one-byte store through a member vector, the contact flags, may alias
-  // anything, and GCC reloaded every array's address from memory after each one.)
-  const Vec3 *const x = p.x.data(), *const v = p.v.data(), *const omega = p.omega.data();
-  const double *const radius = p.radius.data(), *const mass = p.mass.data(), *const inertia = p.inertia.data();
-  const std::int32_t* const material = p.material.data();
-  const std::uint32_t *const start = nl.starts().data(), *const partner = nl.partners().data();
-  const std::uint32_t* const owner = nl.owners().data();
-  const std::uint32_t *const rev_start = nl.rev_starts().data(), *const rev_owner = nl.rev_owners().data();
-  const std::uint32_t* const rev_entry = nl.rev_entries().data();
-  Vec3 *const shear = nl.shear_data(), *const rolling = nl.rolling_data();
-  std::uint8_t* const touching = touching_.data();
-  Vec3 *const force = p.force.data(), *const torque = p.torque.data();
-  const PartnerShare* const share = partner_share_.data();
-  const std::uint8_t* const before_count = wall_slots_.before_counts();
-  std::uint8_t* const count = wall_slots_.counts();
-  const bool beyond_cache = n >= beyond_cache_spheres();
-  const bool fused = beyond_cache;  // else the completion is a second loop over the blocks
-  // Entry k (owner i, partner j, d = x_i - x_j) touches: its pair goes into the batch's slot b.
-  auto gather = [&](PairBatch<Rolling>& batch, int b, std::uint32_t k, std::uint32_t i, std::uint32_t j, Vec3 d,
-                    double dist2, double rsum, double ri, Vec3 vi, Vec3 wi, double mass_i, double inertia_i, int row) {
-    batch.dx[b] = d.x, batch.dy[b] = d.y, batch.dz[b] = d.z;
-    batch.dist2[b] = dist2, batch.rsum[b] = rsum, batch.ri[b] = ri, batch.rj[b] = radius[j];
-    const Vec3 dv = vi - v[j], wj = omega[j];
-    batch.dvx[b] = dv.x, batch.dvy[b] = dv.y, batch.dvz[b] = dv.z;
-    batch.wix[b] = wi.x, batch.wiy[b] = wi.y, batch.wiz[b] = wi.z;
-    batch.wjx[b] = wj.x, batch.wjy[b] = wj.y, batch.wjz[b] = wj.z;
-    batch.mi[b] = mass_i, batch.mj[b] = mass[j], batch.ii[b] = inertia_i, batch.ij[b] = inertia[j];
-    const int pair = row + material[j];
-    batch.contact[b] = m.contact[pair];
-    batch.rolling[b] = m.rolling[pair];
-    const Vec3 s = shear[k];
-    batch.sx[b] = s.x, batch.sy[b] = s.y, batch.sz[b] = s.z;
-    if constexpr (Rolling::kSpring) {
-      const Vec3 rs = rolling[k];
-      batch.rx[b] = rs.x, batch.ry[b] = rs.y, batch.rz[b] = rs.z;
-    }
-    batch.owner[b] = i, batch.entry[b] = k;
-  };
-  // The partner of the entry kPrefetchEntries ahead, in beds too large for the caches.
-  auto prefetch_ahead = [&](std::uint32_t k) {
-    if (k + kPrefetchEntries >= entries) return;
-    const std::uint32_t ahead = partner[k + kPrefetchEntries];
-    __builtin_prefetch(&x[ahead]), __builtin_prefetch(&radius[ahead]);
-    __builtin_prefetch(&v[ahead]), __builtin_prefetch(&omega[ahead]);
-  };
 #pragma omp parallel if(n >= parallel_min_items()) reduction(+ : contacts, wall_contacts) \
     reduction(max : worst_ratio, stiff_pair, worst_wall, stiff_wall) reduction(min : bad, overflow)
   {
+    // Plain local pointers, declared inside the parallel region, and copied into `complete` (not
+    // inlined), whose by-reference captures would make them escape: a one-byte store (the contact
+    // flags) may alias anything, and GCC reloaded every array's address from memory after each one.
+    // Declared outside the region they were shared variables, reached through the region's argument
+    // block: two dependent loads before each partner's position (perf: the clump bed's hottest
+    // instruction, 9 % of the step, was the load of x[j] behind them). In the region: the same
+    // numbers, the clump bed -2 to -12 % time on 1 thread (6 interleaved pairs; docs/performance.md).
+    const Vec3 *const x = p.x.data(), *const v = p.v.data(), *const omega = p.omega.data();
+    const double *const radius = p.radius.data(), *const mass = p.mass.data(), *const inertia = p.inertia.data();
+    const std::int32_t* const material = p.material.data();
+    const std::uint32_t *const start = nl.starts().data(), *const partner = nl.partners().data();
+    const std::uint32_t* const owner = nl.owners().data();
+    const std::uint32_t *const rev_start = nl.rev_starts().data(), *const rev_owner = nl.rev_owners().data();
+    const std::uint32_t* const rev_entry = nl.rev_entries().data();
+    Vec3 *const shear = nl.shear_data(), *const rolling = nl.rolling_data();
+    std::uint8_t* const touching = touching_.data();
+    Vec3 *const force = p.force.data(), *const torque = p.torque.data();
+    const PartnerShare* const share = partner_share_.data();
+    const std::uint8_t* const before_count = wall_slots_.before_counts();
+    std::uint8_t* const count = wall_slots_.counts();
+    const HertzMindlin::Params* const contact_params = m.contact.data();
+    const typename Rolling::Params* const rolling_params = m.rolling.data();
+    const int materials = m.materials;
+    const bool beyond_cache = n >= beyond_cache_spheres();
+    const bool fused = beyond_cache;  // else the completion is a second loop over the blocks
+    // Entry k (owner i, partner j, d = x_i - x_j) touches: its pair goes into the batch's slot b.
+    auto gather = [&](PairBatch<Rolling>& batch, int b, std::uint32_t k, std::uint32_t i, std::uint32_t j, Vec3 d,
+                      double dist2, double rsum, double ri, Vec3 vi, Vec3 wi, double mass_i, double inertia_i, int row) {
+      batch.dx[b] = d.x, batch.dy[b] = d.y, batch.dz[b] = d.z;
+      batch.dist2[b] = dist2, batch.rsum[b] = rsum, batch.ri[b] = ri, batch.rj[b] = radius[j];
+      const Vec3 dv = vi - v[j], wj = omega[j];
+      batch.dvx[b] = dv.x, batch.dvy[b] = dv.y, batch.dvz[b] = dv.z;
+      batch.wix[b] = wi.x, batch.wiy[b] = wi.y, batch.wiz[b] = wi.z;
+      batch.wjx[b] = wj.x, batch.wjy[b] = wj.y, batch.wjz[b] = wj.z;
+      batch.mi[b] = mass_i, batch.mj[b] = mass[j], batch.ii[b] = inertia_i, batch.ij[b] = inertia[j];
+      const int pair = row + material[j];
+      batch.contact[b] = contact_params[pair];
+      batch.rolling[b] = rolling_params[pair];
+      const Vec3 s = shear[k];
+      batch.sx[b] = s.x, batch.sy[b] = s.y, batch.sz[b] = s.z;
+      if constexpr (Rolling::kSpring) {
+        const Vec3 rs = rolling[k];
+        batch.rx[b] = rs.x, batch.ry[b] = rs.y, batch.rz[b] = rs.z;
+      }
+      batch.owner[b] = i, batch.entry[b] = k;
+    };
+    // The partner of the entry kPrefetchEntries ahead, in beds too large for the caches.
+    auto prefetch_ahead = [&](std::uint32_t k) {
+      if (k + kPrefetchEntries >= entries) return;
+      const std::uint32_t ahead = partner[k + kPrefetchEntries];
+      __builtin_prefetch(&x[ahead]), __builtin_prefetch(&radius[ahead]);
+      __builtin_prefetch(&v[ahead]), __builtin_prefetch(&omega[ahead]);
+    };
     PairBatch<Rolling> batch;
     OwnerSum open{n};
     WallStats ws;
@@ -357,7 +365,7 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
     auto near_a_wall = [&](std::size_t i) {
       return before_count[i] > 0 || wall_in_reach(i, walls.size());
     };
-    auto complete = [&](std::size_t from, std::size_t to) {
+    auto complete = [&, rev_start, rev_entry, rev_owner, touching, force, torque, share, count](std::size_t from, std::size_t to) {
       for (std::uint32_t r = rev_start[from], last = rev_start[to]; r < last; ++r) {
         const std::uint32_t k = rev_entry[r];
         if (!touching[k]) continue;
@@ -423,7 +431,7 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
             i = owner[k];
             xi = x[i], vi = v[i], wi = omega[i];
             ri = radius[i], mass_i = mass[i], inertia_i = inertia[i];
-            row = material[i] * m.materials;
+            row = material[i] * materials;
           }
           const std::uint32_t j = partner[k];
           const Vec3 d = xi - x[j];
@@ -481,7 +489,7 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
             const std::uint32_t k = listed[q], i = owner[k], j = partner[k];
             const Vec3 d = x[i] - x[j];
             gather(batch, b, k, i, j, d, norm2(d), radius[i] + radius[j], radius[i], v[i], omega[i], mass[i],
-                   inertia[i], material[i] * m.materials);
+                   inertia[i], material[i] * materials);
             if (++b == PairBatch<Rolling>::kCapacity) flush(b), b = 0;
           }
         }
