@@ -392,11 +392,7 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
     const int threads = omp_get_num_threads(), thread = omp_get_thread_num();
     const bool as_split = threads == work_split_.threads();
     std::size_t mine = 0, mine_end = 0;
-    if (as_split) {
-      mine = work_split_.first(thread), mine_end = work_split_.last(thread);
-    } else {
-      equal_share(blocks, threads, thread, mine, mine_end);
-    }
+    thread_blocks(n, threads, thread, mine, mine_end);
     const std::size_t first = std::min(n, mine * kPassBlock), end = std::min(n, mine_end * kPassBlock);
     // Spheres before `done` are completed, or left for after the barrier: [first, deferred).
     const std::size_t deferred = first < end ? std::min<std::size_t>(end, nl.reach_before(first)) : first;
@@ -598,6 +594,20 @@ bool ForceField::walls_where_found(const std::vector<Wall>& walls) const {
     if (!(shift2 <= mask_margin_[w] * mask_margin_[w])) return false;
   }
   return true;
+}
+
+void ForceField::thread_blocks(std::size_t n, int team, int t, std::size_t& first, std::size_t& last) const {
+  const std::size_t blocks = (n + kPassBlock - 1) / kPassBlock;
+  if (team == work_split_.threads() && work_split_.last(team - 1) == blocks) {
+    first = work_split_.first(t), last = work_split_.last(t);
+  } else {
+    equal_share(blocks, team, t, first, last);
+  }
+}
+
+void ForceField::thread_spheres(std::size_t n, int team, int t, std::size_t& first, std::size_t& last) const {
+  thread_blocks(n, team, t, first, last);
+  first = std::min(n, first * kPassBlock), last = std::min(n, last * kPassBlock);
 }
 
 void ForceField::resize(std::size_t n) { wall_slots_.resize(n); }

@@ -102,6 +102,12 @@ class ForceField {
   ContactEnergy contact_energy(const Particles& p, const NeighborList& nl, const std::vector<Wall>& walls) const;
   std::size_t bytes() const;
 
+  /// The spheres [first, last) of `n` that thread t of a team of `team` takes in the force loop: its
+  /// range of the split cut by cost (dem/work_split.hpp), or an equal share of the blocks when no
+  /// split fits the team and the sphere count. The other per-sphere and per-body loops of a step take
+  /// the same ranges (Simulation::thread_bodies), so that a sphere's state stays on one core.
+  void thread_spheres(std::size_t n, int team, int t, std::size_t& first, std::size_t& last) const;
+
   /// The near-wall masks the last compute() made, per particle slot, while they hold: made for this
   /// list (no build since) and these `n` particles, and `walls` not moved beyond their margins since;
   /// else nullptr. Lets other per-contact loops (the step-stability monitor) skip walls out of reach
@@ -166,6 +172,8 @@ class ForceField {
   // Which thread takes which blocks of the force loop (dem/work_split.hpp): split by block_cost_,
   // estimated again at each list build and when the near-wall masks are made again (split_stale_).
   WorkSplit work_split_;
+  /// The blocks [first, last) thread t of a team of `team` takes (see thread_spheres).
+  void thread_blocks(std::size_t n, int team, int t, std::size_t& first, std::size_t& last) const;
   std::vector<double> block_cost_;
   bool split_stale_ = true;
   std::uint64_t list_generation_ = ~std::uint64_t{0};

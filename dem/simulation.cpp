@@ -436,26 +436,63 @@ void Simulation::compute_forces() {
   sum_forces_on_bodies();
 }
 
+void Simulation::thread_bodies(int team, int t, std::size_t& first, std::size_t& last) const {
+  // Thread t's share of the spheres follows the force loop's split, which is cut by cost; each
+  // per-sphere and per-body loop of a step takes the same share, so that a sphere's state, and its
+  // body's, stays on one core from phase to phase. With a static split of its own (equal counts) a
+  // loop handed the spheres between the two cuts to the other core every step: on this project's
+  // VMs, whose two vCPUs pass a cache line in ~500 ns, each thread then waited 8-12 % of the step
+  // (docs/performance.md, "2026-12-05 (fourth session)").
+  const Bodies& b = bodies_;
+  const std::size_t nb = b.size(), n = particles_.size();
+  if (team == 1) {
+    first = 0, last = nb;
+    return;
+  }
+  if (b.sphere_start.size() != nb + 1 || b.sphere_slot.size() != n) {  // bodies added since the last build
+    equal_share(nb, team, t, first, last);
+    return;
+  }
+  // Bodies are numbered in the order of their first sphere's slot (renumber_bodies), so those whose
+  // first sphere lies in [s0, s1) are the bodies [first body at or after s0, first body at or after s1).
+  auto first_body_at = [&](std::size_t s) {
+    std::size_t lo = 0, hi = nb;
+    while (lo < hi) {
+      const std::size_t mid = lo + (hi - lo) / 2;
+      if (b.sphere_slot[b.sphere_start[mid]] < s) lo = mid + 1; else hi = mid;
+    }
+    return lo;
+  };
+  std::size_t s0 = 0, s1 = 0;
+  forces_.thread_spheres(n, team, t, s0, s1);
+  first = t == 0 ? 0 : first_body_at(s0);
+  last = t == team - 1 ? nb : first_body_at(s1);
+  assert(first <= last);
+}
+
 void Simulation::sum_forces_on_bodies(double half_kick) {
   // Per body: its spheres' contact forces summed about its centre, plus gravity; with half_kick > 0
   // also the half kick that follows them in a step (one pass over the bodies instead of two).
   Bodies& b = bodies_;
   const Particles& p = particles_;
-  const std::size_t nb = b.size();
   const Vec3 g = settings_.gravity;
-#pragma omp parallel for if(nb >= parallel_min_items()) schedule(static)
-  for (std::size_t k = 0; k < nb; ++k) {
-    Vec3 f{}, t{};
-    for (std::uint32_t m = b.sphere_start[k]; m < b.sphere_start[k + 1]; ++m) {
-      const std::uint32_t s = b.sphere_slot[m];
-      f += p.force[s];
-      t += cross(p.x[s] - b.x[k], p.force[s]) + p.torque[s];
-    }
-    b.force[k] = f + b.mass[k] * g;
-    b.torque[k] = t;
-    if (half_kick > 0) {
-      b.v[k] += (half_kick * b.inv_mass[k]) * b.force[k];
-      b.L[k] += half_kick * b.torque[k];
+#pragma omp parallel if(p.size() >= parallel_min_items())
+  {
+    std::size_t first = 0, last = 0;
+    thread_bodies(omp_get_num_threads(), omp_get_thread_num(), first, last);
+    for (std::size_t k = first; k < last; ++k) {
+      Vec3 f{}, t{};
+      for (std::uint32_t m = b.sphere_start[k]; m < b.sphere_start[k + 1]; ++m) {
+        const std::uint32_t s = b.sphere_slot[m];
+        f += p.force[s];
+        t += cross(p.x[s] - b.x[k], p.force[s]) + p.torque[s];
+      }
+      b.force[k] = f + b.mass[k] * g;
+      b.torque[k] = t;
+      if (half_kick > 0) {
+        b.v[k] += (half_kick * b.inv_mass[k]) * b.force[k];
+        b.L[k] += half_kick * b.torque[k];
+      }
     }
   }
   // omega = omega(q, L) is not made here: the next drift makes it afresh from L after its half kick,
@@ -570,13 +607,22 @@ void Simulation::drift(double dt) {
   // than each body writing its spheres (slots scattered over the arrays; measured: docs/performance.md).
   Bodies& b = bodies_;
   Particles& p = particles_;
-  const std::size_t nb = b.size(), n = p.size();
+  const std::size_t n = p.size();
   const double half = 0.5 * dt;
   double moved2 = 0;
   const double* slack = neighbors_.slack2().data();
   const std::size_t slack_n = neighbors_.slack2().size();
-#pragma omp parallel if(n >= parallel_min_items())
+#pragma omp parallel if(n >= parallel_min_items()) reduction(max : moved2)
   {
+    // Each thread the bodies and spheres it takes in the force loop (thread_bodies).
+    const int team = omp_get_num_threads(), thread = omp_get_thread_num();
+    std::size_t body_first = 0, body_last = 0, sphere_first = 0, sphere_last = 0;
+    thread_bodies(team, thread, body_first, body_last);
+    if (team == 1) {
+      sphere_last = n;
+    } else {
+      forces_.thread_spheres(n, team, thread, sphere_first, sphere_last);
+    }
     // Bodies in chunks: the anisotropic ones' rotations are evaluated together, vectorised
     // (dem/rotation_batch.hpp; the same numbers as one body at a time).
     RotationBatch batch;
@@ -584,9 +630,8 @@ void Simulation::drift(double dt) {
       free_rotation_step(b.q[k], b.L[k], b.inertia[k], dt);
       b.omega[k] = body_angular_velocity(b.q[k], b.L[k], b.inertia[k]);
     };
-#pragma omp for schedule(static)
-    for (std::size_t first = 0; first < nb; first += RotationBatch::kCapacity) {
-      const std::size_t last = std::min(nb, first + RotationBatch::kCapacity);
+    for (std::size_t first = body_first; first < body_last; first += RotationBatch::kCapacity) {
+      const std::size_t last = std::min(body_last, first + RotationBatch::kCapacity);
       batch.size = 0;
       for (std::size_t k = first; k < last; ++k) {
         b.v[k] += (half * b.inv_mass[k]) * b.force[k];
@@ -612,8 +657,8 @@ void Simulation::drift(double dt) {
         }
       }
     }
-#pragma omp for schedule(static) reduction(max : moved2)
-    for (std::size_t s = 0; s < n; ++s) moved2 = std::max(moved2, follow_body(p, b, s, slack, slack_n));
+#pragma omp barrier
+    for (std::size_t s = sphere_first; s < sphere_last; ++s) moved2 = std::max(moved2, follow_body(p, b, s, slack, slack_n));
   }
   moved2_ = moved2;
   body_omega_lags_ = false;   // every body's omega made afresh above

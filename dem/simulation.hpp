@@ -165,6 +165,9 @@ class Simulation {
   void index_spheres_by_body();
   void renumber_bodies();
   void sum_forces_on_bodies(double half_kick = 0);
+  /// The bodies [first, last) thread t of a team of `team` takes in the per-body loops: those whose
+  /// first sphere lies in the spheres it takes in the force loop (ForceField::thread_spheres).
+  void thread_bodies(int team, int t, std::size_t& first, std::size_t& last) const;
 
   MaterialTable materials_;
   SimulationSettings settings_;
