@@ -13,6 +13,9 @@
 // 19 M sphere-steps/s). Hence ranges cut by cost: each block's cost is estimated (its spheres, list
 // entries, spheres near a wall), and each thread's share of the total follows its measured speed,
 // so that what the estimate misses (a slower vCPU, costlier contacts in one half) is evened out.
+// The step's other per-sphere and per-body loops (the drift, the body sums) take the same ranges
+// (ForceField::thread_spheres, Simulation::thread_bodies): with equal counts of their own they moved
+// the spheres between the two cuts from core to core every step (docs/performance.md, 2026-12-05).
 //
 // The split changes who computes a sum, never its terms or their order, so results are the same bit
 // for bit for any split and thread count (the determinism tests); only the timing feeds back.
