@@ -441,8 +441,8 @@ void Simulation::thread_bodies(int team, int t, std::size_t& first, std::size_t&
   // per-sphere and per-body loop of a step takes the same share, so that a sphere's state, and its
   // body's, stays on one core from phase to phase. With a static split of its own (equal counts) a
   // loop handed the spheres between the two cuts to the other core every step: on this project's
-  // VMs, whose two vCPUs pass a cache line in ~500 ns, each thread then waited 8-12 % of the step
-  // (docs/performance.md, "2026-12-05 (fourth session)").
+  // VMs, whose two vCPUs pass a cache line in ~500 ns, each thread of the clump bed waited 11-12 % of
+  // the step at barriers, 9-10 % with one split (docs/performance.md, "2026-12-05 (fourth session)").
   const Bodies& b = bodies_;
   const std::size_t nb = b.size(), n = particles_.size();
   if (team == 1) {
