@@ -245,24 +245,24 @@ def median(v):
     v = sorted(v); m = len(v) // 2
     return v[m] if len(v) % 2 else 0.5 * (v[m - 1] + v[m])
 
-def paired(a_kind, a_n, b_kind, b_n, scale):
+def paired(a_kind, a_n, b_kind, b_n):
     ratios = []
     for r in range(1, repeats + 1):
         a, b = run_of(a_kind, a_n, r), run_of(b_kind, b_n, r)
-        if a and b: ratios.append(a["rate"] / b["rate"] * scale)
+        if a and b: ratios.append(a["rate"] / b["rate"])
     return ratios
 
 print()
 print("paired by repeat (each repeat's two runs seconds apart; the median of the repeats):")
 for a_kind, b_kind, what in pairs:
     for n in counts:
-        v = paired(a_kind, n, b_kind, n, 1.0)
+        v = paired(a_kind, n, b_kind, n)
         if v:
             print(f"  grainscale / LIGGGHTS per core at {n} thread(s) / process(es), {what}: "
                   f"{' '.join(f'{x:.2f}' for x in v)} -> median {median(v):.2f}")
 for kind, code, sk in rows:
     if counts[-1] != counts[0]:
-        v = paired(kind, counts[-1], kind, counts[0], 1.0)
+        v = paired(kind, counts[-1], kind, counts[0])
         if v:
             print(f"  {code} ({sk} skin) speed-up {counts[0]} -> {counts[-1]}: {' '.join(f'{x:.2f}' for x in v)} -> median {median(v):.2f}x")
 print("(other load: CPU cores used by other processes during the run; > 0.2 means the figure is disturbed.")
