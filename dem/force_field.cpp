@@ -305,7 +305,7 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
     // Declared outside the region they were shared variables, reached through the region's argument
     // block: two dependent loads before each partner's position (perf: the clump bed's hottest
     // instruction, 9 % of the step, was the load of x[j] behind them). In the region: the same
-    // numbers, the clump bed -2 to -12 % time on 1 thread (6 interleaved pairs; docs/performance.md).
+    // numbers, the clump bed -2 to -22 % time on 1 thread (6 interleaved pairs; docs/performance.md).
     const Vec3 *const x = p.x.data(), *const v = p.v.data(), *const omega = p.omega.data();
     const double *const radius = p.radius.data(), *const mass = p.mass.data(), *const inertia = p.inertia.data();
     const std::int32_t* const material = p.material.data();
