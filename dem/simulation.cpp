@@ -445,10 +445,6 @@ void Simulation::thread_bodies(int team, int t, std::size_t& first, std::size_t&
   // the step at barriers, 9-10 % with one split (docs/performance.md, "2026-12-05 (fourth session)").
   const Bodies& b = bodies_;
   const std::size_t nb = b.size(), n = particles_.size();
-  if (team == 1) {
-    first = 0, last = nb;
-    return;
-  }
   if (b.sphere_start.size() != nb + 1 || b.sphere_slot.size() != n) {  // bodies added since the last build
     equal_share(nb, team, t, first, last);
     return;
@@ -618,11 +614,7 @@ void Simulation::drift(double dt) {
     const int team = omp_get_num_threads(), thread = omp_get_thread_num();
     std::size_t body_first = 0, body_last = 0, sphere_first = 0, sphere_last = 0;
     thread_bodies(team, thread, body_first, body_last);
-    if (team == 1) {
-      sphere_last = n;
-    } else {
-      forces_.thread_spheres(n, team, thread, sphere_first, sphere_last);
-    }
+    forces_.thread_spheres(n, team, thread, sphere_first, sphere_last);
     // Bodies in chunks: the anisotropic ones' rotations are evaluated together, vectorised
     // (dem/rotation_batch.hpp; the same numbers as one body at a time).
     RotationBatch batch;
