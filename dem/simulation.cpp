@@ -1,6 +1,7 @@
 #include "dem/parallel.hpp"
 #include "dem/simulation.hpp"
 #include "dem/adaptive_skin.hpp"
+#include "dem/boundary_lines.hpp"
 #include "dem/rotation_batch.hpp"
 
 #include <algorithm>
@@ -407,7 +408,16 @@ void Simulation::renumber_bodies() {
 }
 
 
-void Simulation::index_spheres_by_body() { index_spheres(particles_, bodies_, body_fill_); }
+void Simulation::index_spheres_by_body() {
+  index_spheres(particles_, bodies_, body_fill_);
+  // Within a body the slots are ascending (index_spheres), so its first and last are its extent.
+  const Bodies& b = bodies_;
+  std::size_t span = 0;
+  for (std::size_t k = 0; k < b.size(); ++k) {
+    span = std::max<std::size_t>(span, b.sphere_slot[b.sphere_start[k + 1] - 1] - b.sphere_slot[b.sphere_start[k]]);
+  }
+  body_slot_span_ = span;
+}
 
 namespace {
 /// omega = R I^-1 R^T L; for an isotropic body simply L / I (no rotations needed).
@@ -472,11 +482,31 @@ void Simulation::sum_forces_on_bodies(double half_kick) {
   Bodies& b = bodies_;
   const Particles& p = particles_;
   const Vec3 g = settings_.gravity;
-#pragma omp parallel if(p.size() >= parallel_min_items())
+  const std::size_t n = p.size();
+  const bool indexed = b.sphere_start.size() == b.size() + 1 && b.sphere_slot.size() == n;
+#pragma omp parallel if(n >= parallel_min_items())
   {
+    const int team = omp_get_num_threads(), thread = omp_get_thread_num();
     std::size_t first = 0, last = 0;
-    thread_bodies(omp_get_num_threads(), omp_get_thread_num(), first, last);
+    thread_bodies(team, thread, first, last);
+    // This thread's last bodies may have spheres in the next thread's range (up to body_slot_span_
+    // slots past its end), whose forces and positions were written on the other core: requested
+    // from the start, a sphere per body, they have arrived when their bodies come (dem/boundary_lines.hpp;
+    // docs/performance.md, "2026-12-05 (fifth session)").
+    std::size_t ahead = 0, ahead_end = 0;
+    if (thread < team - 1 && indexed) {
+      std::size_t mine_first = 0;
+      forces_.thread_spheres(n, team, thread, mine_first, ahead);
+      ahead_end = std::min(n, ahead + body_slot_span_);
+    }
     for (std::size_t k = first; k < last; ++k) {
+      while (ahead < ahead_end) {
+        const std::size_t s = ahead++;
+        if (p.body[s] >= first && p.body[s] < last) {
+          __builtin_prefetch(&p.force[s]), __builtin_prefetch(&p.torque[s]), __builtin_prefetch(&p.x[s]);
+          break;
+        }
+      }
       Vec3 f{}, t{};
       for (std::uint32_t m = b.sphere_start[k]; m < b.sphere_start[k + 1]; ++m) {
         const std::uint32_t s = b.sphere_slot[m];
@@ -615,6 +645,15 @@ void Simulation::drift(double dt) {
     std::size_t body_first = 0, body_last = 0, sphere_first = 0, sphere_last = 0;
     thread_bodies(team, thread, body_first, body_last);
     forces_.thread_spheres(n, team, thread, sphere_first, sphere_last);
+    // The first spheres of this range, which the thread below read as partners in its force loop
+    // (slots [sphere_first, reach_before(sphere_first))): their lines, written in the sphere loop
+    // below, are requested for writing a line per body in the body loop (dem/boundary_lines.hpp).
+    BoundaryLines<3> boundary;
+    if (thread > 0 && sphere_first < sphere_last && neighbors_.starts().size() == n + 1) {
+      const std::size_t end = std::min<std::size_t>(sphere_last, neighbors_.reach_before(sphere_first));
+      boundary = BoundaryLines<3>({&p.x[sphere_first], &p.v[sphere_first], &p.omega[sphere_first]},
+                                  (end - sphere_first) * sizeof(Vec3));
+    }
     // Bodies in chunks: the anisotropic ones' rotations are evaluated together, vectorised
     // (dem/rotation_batch.hpp; the same numbers as one body at a time).
     RotationBatch batch;
@@ -626,6 +665,7 @@ void Simulation::drift(double dt) {
       const std::size_t last = std::min(body_last, first + RotationBatch::kCapacity);
       batch.size = 0;
       for (std::size_t k = first; k < last; ++k) {
+        boundary.fetch_next_for_write();
         b.v[k] += (half * b.inv_mass[k]) * b.force[k];
         b.L[k] += half * b.torque[k];
         b.x[k] += dt * b.v[k];

@@ -184,6 +184,7 @@ class Simulation {
   std::uint64_t steps_ = 0, next_sphere_id_ = 0;
   double moved2_ = 0;  // largest squared sphere displacement since the last neighbour build
   std::vector<std::uint32_t> body_fill_;  // scratch for index_spheres_by_body
+  std::size_t body_slot_span_ = 0;        // the most slots between two spheres of one body (index_spheres_by_body)
   std::vector<std::uint32_t> body_order_, body_new_index_;  // scratch for renumber_bodies
   /// Mass properties of each distinct sphere set added so far (mass_properties_of).
   std::vector<std::pair<std::vector<SphereComponent>, MassProperties>> mass_cache_;
