@@ -21,7 +21,7 @@ double margin_of(double omega_dt, double zeta) { return omega_dt / (2 * (std::sq
 
 }  // namespace
 
-/// Calls visit(body, lever, normal, other_body or -1, other_lever, S_n, c_n) for the contacts of
+/// Calls visit(entry, body, lever, normal, other_body, other_lever, S_n, c_n) for the contacts of
 /// neighbour-list entries [k0, k1), once per pair (the visitor handles both sides), in entry order.
 /// The pairs are walked by entry, not by sphere (most spheres of a settled bed own no entry: a loop
 /// per sphere paid a mispredicted branch for each, as the force loop did).
@@ -45,12 +45,13 @@ void StepStabilityMonitor::for_each_pair_contact(const Particles& p, const Bodie
     const double r_eff = p.radius[i] * p.radius[j] / rsum;
     const double m_eff = b.mass[bi] * b.mass[bj] / (b.mass[bi] + b.mass[bj]);
     const double s_n = 2.0 * hm.e_eff * std::sqrt(r_eff * overlap);
-    visit(bi, point - b.x[bi], n, static_cast<std::int64_t>(bj), point - b.x[bj], s_n,
+    visit(k, bi, point - b.x[bi], n, static_cast<std::int64_t>(bj), point - b.x[bj], s_n,
           hm.damping * std::sqrt(s_n * m_eff));
   }
 }
 
-/// The same for the wall contacts of spheres [i0, i1), sphere by sphere. Walls out of a sphere's
+/// The same for the wall contacts of spheres [i0, i1), sphere by sphere, the sphere in place of the
+/// entry (other_body -1, other_lever zero). Walls out of a sphere's
 /// reach are skipped as the force loop skips them (asking every wall of every sphere was a third of
 /// this loop on the clump bed; BoxGeometry::nearby in the profile).
 template <class Visit>
@@ -69,7 +70,7 @@ void StepStabilityMonitor::for_each_wall_contact(const Particles& p, const Bodie
         const HertzMindlin::Params& hm = forces.contact_params(p.material[i], w.material());
         const double s_n = 2.0 * hm.e_eff * std::sqrt(p.radius[i] * wc[q].overlap);
         const Vec3 point = p.x[i] - (p.radius[i] - wc[q].overlap) * wc[q].normal;
-        visit(bi, point - b.x[bi], wc[q].normal, std::int64_t{-1}, Vec3{}, s_n,
+        visit(i, bi, point - b.x[bi], wc[q].normal, std::int64_t{-1}, Vec3{}, s_n,
               hm.damping * std::sqrt(s_n * b.mass[bi]));
       }
     }
@@ -81,96 +82,124 @@ template <class Visit>
 void StepStabilityMonitor::for_each_contact(const Particles& p, const Bodies& b, const NeighborList& nl,
                                             const std::vector<Wall>& walls, const ForceField& forces,
                                             Visit&& visit) const {
-  for_each_pair_contact(p, b, nl, forces, 0, nl.entries(), visit);
-  for_each_wall_contact(p, b, walls, forces, forces.near_wall_masks(walls, nl, p.size()), 0, p.size(), visit);
+  auto contact_only = [&](std::size_t, auto&&... contact) { visit(contact...); };
+  for_each_pair_contact(p, b, nl, forces, 0, nl.entries(), contact_only);
+  for_each_wall_contact(p, b, walls, forces, forces.near_wall_masks(walls, nl, p.size()), 0, p.size(), contact_only);
 }
 
 StepStability StepStabilityMonitor::assess(const Particles& p, const Bodies& b, const NeighborList& nl,
                                            const std::vector<Wall>& walls, const ForceField& forces, double dt) {
-  const std::size_t nb = b.size();
+  const std::size_t nb = b.size(), n = p.size(), entries = nl.entries();
+  mobility_.resize(nb);
+  omega2_.assign(nb, 0.0);
+  damping_rate_.assign(nb, 0.0);
+  count_.assign(nb, 0);
+  margin_.resize(nb);
+  const std::uint32_t* const near = forces.near_wall_masks(walls, nl, n);
+
   // 1/m + (r x n)^T I_world^-1 (r x n) is body k's inverse effective mass for a push along n at
   // x + r. I_world^-1 = R diag(1/I) R^T is made once per body here, not by turning every lever into
   // the body frame (three divisions per contact side: a quarter of the check on the clump bed).
-  mobility_.resize(nb);
-#pragma omp parallel for if(nb >= parallel_min_items()) schedule(static)
-  for (std::size_t k = 0; k < nb; ++k) {
+  auto make_mobility = [&](std::size_t k) {
     const Eigen::Matrix3d R = rotation_matrix(b.q[k]);
     const Eigen::Vector3d inv_I(1 / b.inertia[k].x, 1 / b.inertia[k].y, 1 / b.inertia[k].z);
     const Eigen::Matrix3d w = R * inv_I.asDiagonal() * R.transpose();
     mobility_[k] = {b.inv_mass[k], w(0, 0), w(1, 1), w(2, 2), w(0, 1), w(0, 2), w(1, 2)};
-  }
-  omega2_.assign(nb, 0.0);
-  damping_rate_.assign(nb, 0.0);
-  count_.assign(nb, 0);
-
-  // Stage 1: Gershgorin row sums. Each contact's terms are made in parallel (threads take
-  // contiguous ranges of entries and of spheres and keep what they find in order), then added to
-  // the bodies' sums in one fixed order, the pairs in entry order and the wall contacts sphere by
-  // sphere: the same sums, bit for bit, for any thread count. (Serial, this check was ~2 % of a
-  // clump-bed step on one thread, every 20 steps, and on two threads the second one waited.)
-  const std::size_t entries = nl.entries(), n = p.size();
-  // A contact's terms for its bodies, handed to `sink(body, stiffness term, damping term)`.
-  auto terms = [&](auto&& sink) {
-    return [&, sink](std::size_t bi, const Vec3& ri, const Vec3& normal, std::int64_t bj, const Vec3& rj, double s_n,
-                     double c_n) {
-      const double ai = mobility_[bi].compliance(ri, normal);
-      const double aj = bj >= 0 ? mobility_[static_cast<std::size_t>(bj)].compliance(rj, normal) : 0.0;
-      const double cross_term = std::sqrt(ai * aj);
-      sink(static_cast<std::uint32_t>(bi), s_n * (ai + cross_term), c_n * (ai + cross_term));
-      if (bj >= 0) sink(static_cast<std::uint32_t>(bj), s_n * (aj + cross_term), c_n * (aj + cross_term));
-    };
+  };
+  // A contact's terms for its bodies: S_n (a + sqrt(a_b a_o)) and c_n likewise (a_o = 0 for a wall).
+  auto terms = [&](std::size_t bi, const Vec3& ri, const Vec3& normal, std::int64_t bj, const Vec3& rj, double s_n,
+                   double c_n) {
+    const double ai = mobility_[bi].compliance(ri, normal);
+    const double aj = bj >= 0 ? mobility_[static_cast<std::size_t>(bj)].compliance(rj, normal) : 0.0;
+    const double cross_term = std::sqrt(ai * aj);
+    return PairTerms{s_n * (ai + cross_term), c_n * (ai + cross_term), s_n * (aj + cross_term),
+                     c_n * (aj + cross_term), static_cast<std::uint32_t>(bi), static_cast<std::uint32_t>(bj)};
   };
   auto add = [&](std::uint32_t body, double stiffness, double damping) {
     omega2_[body] += stiffness;
     damping_rate_[body] += damping;
     ++count_[body];
   };
+  auto make_margin = [&](std::size_t k) {
+    margin_[k] = count_[k] > 0 ? margin_of(std::sqrt(omega2_[k]) * dt, damping_rate_[k] / (2 * std::sqrt(omega2_[k])))
+                               : 0;
+  };
+
+  // Stage 1: Gershgorin row sums, each body's added in one fixed order for any thread count (the
+  // pairs in entry order, then the wall contacts sphere by sphere), so the same sums bit for bit.
+  // One thread adds each contact's terms as found. A team makes them in parallel (threads take
+  // contiguous ranges of entries and of spheres), the pairs' stored by entry and the walls' listed
+  // per thread in sphere order; then each thread walks them all, in that order, and adds those of
+  // its own bodies. (Until 2026-12-05 one thread added them all: the clump bed's check took as long
+  // on two threads as on one. Summed per sphere and then per body, an order of its own, it cost a
+  // fifth more on one thread. docs/performance.md, "fifth session".)
   const int team = entries + n >= parallel_min_items() ? omp_get_max_threads() : 1;
-  if (team == 1) {  // added as found (kept and added later, they cost a second loop: +0.4 % of a step)
-    for_each_contact(p, b, nl, walls, forces, terms(add));
+  if (team == 1) {
+    for (std::size_t k = 0; k < nb; ++k) make_mobility(k);
+    for_each_contact(p, b, nl, walls, forces,
+                     [&](std::size_t bi, const Vec3& ri, const Vec3& normal, std::int64_t bj, const Vec3& rj,
+                         double s_n, double c_n) {
+                       const PairTerms pt = terms(bi, ri, normal, bj, rj, s_n, c_n);
+                       add(pt.body_i, pt.stiffness_i, pt.damping_i);
+                       if (bj >= 0) add(pt.body_j, pt.stiffness_j, pt.damping_j);
+                     });
+    for (std::size_t k = 0; k < nb; ++k) make_margin(k);
   } else {
-    if (terms_.size() < 2 * static_cast<std::size_t>(team)) terms_.resize(2 * static_cast<std::size_t>(team));
-    const std::uint32_t* const near = forces.near_wall_masks(walls, nl, n);
+    pair_terms_.resize(entries);
+    if (wall_terms_.size() < static_cast<std::size_t>(team)) wall_terms_.resize(static_cast<std::size_t>(team));
 #pragma omp parallel num_threads(team)
     {
       const int threads = omp_get_num_threads(), t = omp_get_thread_num();
-      std::vector<Term>& pair_terms = terms_[static_cast<std::size_t>(t)];
-      std::vector<Term>& wall_terms = terms_[static_cast<std::size_t>(team + t)];
-      pair_terms.clear(), wall_terms.clear();
-      auto keep_in = [](std::vector<Term>& out) {
-        return [&out](std::uint32_t body, double stiffness, double damping) { out.push_back({body, stiffness, damping}); };
-      };
       std::size_t first = 0, last = 0;
-      equal_share(entries, threads, t, first, last);
-      for_each_pair_contact(p, b, nl, forces, first, last, terms(keep_in(pair_terms)));
-      equal_share(n, threads, t, first, last);
-      for_each_wall_contact(p, b, walls, forces, near, first, last, terms(keep_in(wall_terms)));
+      equal_share(nb, threads, t, first, last);
+      for (std::size_t k = first; k < last; ++k) make_mobility(k);
 #pragma omp barrier
-#pragma omp single
-      {
-        for (int pass = 0; pass < 2; ++pass) {  // the pairs', then the walls'
-          for (int u = 0; u < threads; ++u) {
-            for (const Term& term : terms_[static_cast<std::size_t>(pass * team + u)]) {
-              add(term.body, term.stiffness, term.damping);
-            }
-          }
+      std::size_t lo = 0, hi = 0;
+      equal_share(entries, threads, t, lo, hi);
+      for (std::size_t k = lo; k < hi; ++k) pair_terms_[k].stiffness_i = -1;  // apart until found touching
+      for_each_pair_contact(p, b, nl, forces, lo, hi,
+                            [&](std::size_t k, std::size_t bi, const Vec3& ri, const Vec3& normal, std::int64_t bj,
+                                const Vec3& rj, double s_n, double c_n) {
+                              pair_terms_[k] = terms(bi, ri, normal, bj, rj, s_n, c_n);
+                            });
+      std::vector<Term>& mine = wall_terms_[static_cast<std::size_t>(t)];
+      mine.clear();
+      equal_share(n, threads, t, lo, hi);
+      for_each_wall_contact(p, b, walls, forces, near, lo, hi,
+                            [&](std::size_t, std::size_t bi, const Vec3& ri, const Vec3& normal, std::int64_t bj,
+                                const Vec3& rj, double s_n, double c_n) {
+                              const PairTerms pt = terms(bi, ri, normal, bj, rj, s_n, c_n);
+                              mine.push_back({pt.body_i, pt.stiffness_i, pt.damping_i});
+                            });
+#pragma omp barrier
+      const auto mine_first = static_cast<std::uint32_t>(first), mine_last = static_cast<std::uint32_t>(last);
+      auto is_mine = [&](std::uint32_t body) { return body >= mine_first && body < mine_last; };
+      for (std::size_t k = 0; k < entries; ++k) {
+        const PairTerms& pt = pair_terms_[k];
+        if (pt.stiffness_i < 0) continue;
+        if (is_mine(pt.body_i)) add(pt.body_i, pt.stiffness_i, pt.damping_i);
+        if (is_mine(pt.body_j)) add(pt.body_j, pt.stiffness_j, pt.damping_j);
+      }
+      for (int u = 0; u < threads; ++u) {
+        for (const Term& term : wall_terms_[static_cast<std::size_t>(u)]) {
+          if (is_mine(term.body)) add(term.body, term.stiffness, term.damping);
         }
       }
+      for (std::size_t k = first; k < last; ++k) make_margin(k);
     }
   }
 
+  // The worst body by its bound, and the suspects (numbered in body order) for stage 2.
   StepStability worst;
   std::size_t suspects = 0;
   suspect_.assign(nb, -1);
   for (std::size_t k = 0; k < nb; ++k) {
     if (count_[k] == 0) continue;
-    const double omega = std::sqrt(omega2_[k]);
-    const double zeta = damping_rate_[k] / (2 * omega);
-    const double margin = margin_of(omega * dt, zeta);
-    if (margin > kRefineAbove) {
+    if (margin_[k] > kRefineAbove) {
       suspect_[k] = static_cast<int>(suspects++);
-    } else if (margin > worst.margin) {
-      worst = {margin, omega * dt, zeta, static_cast<std::int64_t>(k), count_[k], false};
+    } else if (margin_[k] > worst.margin) {
+      const double omega = std::sqrt(omega2_[k]);
+      worst = {margin_[k], omega * dt, damping_rate_[k] / (2 * omega), static_cast<std::int64_t>(k), count_[k], false};
     }
   }
   if (suspects == 0) return worst;

@@ -86,16 +86,20 @@ class StepStabilityMonitor {
     }
   };
 
-  std::vector<Mobility> mobility_;              // per body, made at each check
-  std::vector<double> omega2_, damping_rate_;  // per body, reused between calls
-  std::vector<int> count_, suspect_;           // suspect_[b]: index into springs_start_ or -1
-  std::vector<std::vector<Spring>> springs_;   // per suspect body
-  struct Term {  // one contact's stage-1 terms for one of its bodies
+  std::vector<Mobility> mobility_;                       // per body, made at each check
+  std::vector<double> omega2_, damping_rate_, margin_;  // per body, reused between calls
+  std::vector<int> count_, suspect_;                    // suspect_[b]: index into springs_ or -1
+  std::vector<std::vector<Spring>> springs_;            // per suspect body
+  struct PairTerms {  // one contact's stage-1 terms for its two bodies (i: the owner's, j: the partner's)
+    double stiffness_i, damping_i, stiffness_j, damping_j;
+    std::uint32_t body_i, body_j;
+  };
+  std::vector<PairTerms> pair_terms_;  // per neighbour-list entry; stiffness_i -1 for a pair apart
+  struct Term {  // one wall contact's stage-1 terms
     std::uint32_t body;
     double stiffness, damping;
   };
-  // Stage 1's terms, per thread, in the order found: [thread] the pairs', [team + thread] the walls'.
-  std::vector<std::vector<Term>> terms_;
+  std::vector<std::vector<Term>> wall_terms_;  // per thread, in sphere order
 };
 
 /// "margin 1.3 at body id 17 (4 spheres, 8 contacts, ...): Omega dt = 0.9, damping ratio 1.5" for

@@ -215,10 +215,63 @@ TEST_CASE("Clumps added to a running bed move the same, bit for bit, on 1 to 4 t
   }
 }
 
-TEST_CASE("The step-stability check of a clump heap is the same, bit for bit, on 1 to 4 threads",
+namespace {
+
+/// Stage 1's bound on Omega_b^2 for every body (dem/step_stability.hpp), by brute force: every pair
+/// of spheres of two bodies that overlap, every sphere against every wall, each body's compliance
+/// turned into its own frame.
+std::vector<double> omega2_bounds_by_brute_force(const Simulation& sim, const MaterialTable& mt) {
+  const Particles& p = sim.particles();
+  const Bodies& b = sim.bodies();
+  auto compliance = [&](std::size_t k, const Vec3& lever, const Vec3& n) {
+    const Vec3 c = rotate(conjugate(b.q[k]), cross(lever, n));
+    const Vec3 I = b.inertia[k];
+    return 1 / b.mass[k] + c.x * c.x / I.x + c.y * c.y / I.y + c.z * c.z / I.z;
+  };
+  auto e_eff = [&](int m1, int m2) { return HertzMindlin::make(mt[m1], mt[m2], mt.pair(m1, m2)).e_eff; };
+  std::vector<double> bound(b.size(), 0.0);
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const std::size_t bi = p.body[i];
+    for (std::size_t j = i + 1; j < p.size(); ++j) {
+      const std::size_t bj = p.body[j];
+      const double rsum = p.radius[i] + p.radius[j], dist = norm(p.x[i] - p.x[j]);
+      if (bi == bj || dist >= rsum) continue;
+      const Vec3 n = (1 / dist) * (p.x[i] - p.x[j]);
+      const double overlap = rsum - dist;
+      const Vec3 point = p.x[i] - (p.radius[i] - 0.5 * overlap) * n;
+      const double s_n = 2 * e_eff(p.material[i], p.material[j]) * std::sqrt(p.radius[i] * p.radius[j] / rsum * overlap);
+      const double ai = compliance(bi, point - b.x[bi], n), aj = compliance(bj, point - b.x[bj], n);
+      bound[bi] += s_n * (ai + std::sqrt(ai * aj));
+      bound[bj] += s_n * (aj + std::sqrt(ai * aj));
+    }
+    for (const Wall& w : sim.walls()) {
+      WallContact wc[ForceField::kWallSlots];
+      const int found = w.contacts(p.x[i], p.radius[i], wc, ForceField::kWallSlots);
+      for (int q = 0; q < found; ++q) {
+        const double s_n = 2 * e_eff(p.material[i], w.material()) * std::sqrt(p.radius[i] * wc[q].overlap);
+        const Vec3 point = p.x[i] - (p.radius[i] - wc[q].overlap) * wc[q].normal;
+        bound[bi] += s_n * compliance(bi, point - b.x[bi], wc[q].normal);
+      }
+    }
+  }
+  return bound;
+}
+
+void require_bounds_near(const std::vector<double>& got, const std::vector<double>& want) {
+  REQUIRE(got.size() == want.size());
+  for (std::size_t k = 0; k < want.size(); ++k) {
+    INFO("body " << k);
+    CHECK(got[k] == Approx(want[k]).epsilon(1e-10).margin(0));
+  }
+}
+
+}  // namespace
+
+TEST_CASE("The step-stability check of a clump heap counts every contact once, the same bit for bit on 1 to 4 threads",
           "[dem][clump][stability][determinism]") {
-  // Stage 1 makes each contact's terms in parallel and adds them in one fixed order
-  // (dem/step_stability.cpp): any thread count gives the same per-body sums, hence the same worst body.
+  // Stage 1 makes each contact's terms in parallel and adds them to every body in one fixed order
+  // (dem/step_stability.cpp): any thread count gives the same per-body sums, hence the same worst body;
+  // and the sums are those of a brute-force search over all spheres and walls.
   const testing::ParallelEverything guard;
   omp_set_num_threads(1);
   Simulation sim(grain_and_floor(0.5, 0.35, 0.08), {});
@@ -254,6 +307,23 @@ TEST_CASE("The step-stability check of a clump heap is the same, bit for bit, on
     CHECK(many.body == one.body);
     CHECK(many.contacts == one.contacts);
   }
+  const std::vector<double> brute = omega2_bounds_by_brute_force(sim, grain_and_floor(0.5, 0.35, 0.08));
+  REQUIRE(std::count_if(brute.begin(), brute.end(), [](double w) { return w > 0; }) > 80);  // 97 of 180 clumps
+  require_bounds_near(bounds, brute);
+
+  // A clump added against a side wall, away from the heap: until the next step neither the
+  // neighbour list nor the bodies' sphere index knows its spheres. The check finds its wall contacts.
+  sim.add_clump(s, 0, 1380, {0.0398, 0.02, 0.06}, axis_angle({0, 1, 0}, 1.5707963));
+  omp_set_num_threads(1);
+  sim.check_stability();
+  const std::vector<double> added = sim.stability_monitor().omega2_bounds();
+  omp_set_num_threads(3);
+  sim.check_stability();
+  const std::vector<double>& added_3 = sim.stability_monitor().omega2_bounds();
+  REQUIRE(added_3.size() == added.size());
+  CHECK(std::memcmp(added_3.data(), added.data(), added.size() * sizeof(double)) == 0);
+  CHECK(added.back() > 0);  // the new clump touches the wall
+  require_bounds_near(added, omega2_bounds_by_brute_force(sim, grain_and_floor(0.5, 0.35, 0.08)));
   omp_set_num_threads(2);
 }
 
