@@ -130,14 +130,16 @@ void NeighborList::build(Particles& p, double skin, const std::vector<std::uint3
     const Vec3 xi = p.x[i];
     const int c = cell_of(xi);
     const int i0 = c % n_[0], i1 = (c / n_[0]) % n_[1], i2 = c / (n_[0] * n_[1]);
-    for (int s = std::max(i2 - 1, 0); s <= std::min(i2 + 1, n_[2] - 1); ++s)
-      for (int m = std::max(i1 - 1, 0); m <= std::min(i1 + 1, n_[1] - 1); ++m) {
+    // Only partners after i (j > i): the rows before i's own (lower s, or the same s and lower m)
+    // hold only slots before it, since slots are in cell order; they are not scanned.
+    for (int s = i2; s <= std::min(i2 + 1, n_[2] - 1); ++s)
+      for (int m = s == i2 ? i1 : std::max(i1 - 1, 0); m <= std::min(i1 + 1, n_[1] - 1); ++m) {
         // The cells of one row (fast axis i0-1..i0+1) are contiguous in slot order: one loop covers them.
         const int row = (s * n_[1] + m) * n_[0];
-        const std::uint32_t j0 = cell_start_[row + std::max(i0 - 1, 0)];
+        const std::uint32_t j0 = std::max<std::uint32_t>(cell_start_[row + std::max(i0 - 1, 0)], static_cast<std::uint32_t>(i + 1));
         const std::uint32_t j1 = cell_start_[row + std::min(i0 + 1, n_[0] - 1) + 1];
         for (std::uint32_t j = j0; j < j1; ++j) {
-          if (j <= i || p.body[j] == p.body[i]) continue;  // no contacts inside a body
+          if (p.body[j] == p.body[i]) continue;  // no contacts inside a body
           const double cut = p.radius[i] + p.radius[j] + skin;
           if (norm2(p.x[j] - xi) < cut * cut) visit(j);
         }

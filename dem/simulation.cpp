@@ -650,7 +650,8 @@ void Simulation::drift(double dt) {
     // below, are requested for writing a line per body in the body loop (dem/boundary_lines.hpp).
     BoundaryLines<3> boundary;
     if (thread > 0 && sphere_first < sphere_last && neighbors_.starts().size() == n + 1) {
-      const std::size_t end = std::min<std::size_t>(sphere_last, neighbors_.reach_before(sphere_first));
+      // (reach_before(s) is below s when no pair reaches across s.)
+      const std::size_t end = std::clamp<std::size_t>(neighbors_.reach_before(sphere_first), sphere_first, sphere_last);
       boundary = BoundaryLines<3>({&p.x[sphere_first], &p.v[sphere_first], &p.omega[sphere_first]},
                                   (end - sphere_first) * sizeof(Vec3));
     }
