@@ -51,9 +51,9 @@ void StepStabilityMonitor::for_each_pair_contact(const Particles& p, const Bodie
 }
 
 /// The same for the wall contacts of spheres [i0, i1), sphere by sphere, the sphere in place of the
-/// entry (other_body -1, other_lever zero). Walls out of a sphere's
-/// reach are skipped as the force loop skips them (asking every wall of every sphere was a third of
-/// this loop on the clump bed; BoxGeometry::nearby in the profile).
+/// entry (other_body -1, other_lever zero). Walls out of a sphere's reach are skipped as the force
+/// loop skips them (asking every wall of every sphere was a third of this loop on the clump bed;
+/// BoxGeometry::nearby in the profile).
 template <class Visit>
 void StepStabilityMonitor::for_each_wall_contact(const Particles& p, const Bodies& b, const std::vector<Wall>& walls,
                                                  const ForceField& forces, const std::uint32_t* near,
