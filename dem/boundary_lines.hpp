@@ -36,8 +36,6 @@ class BoundaryLines {
     ++next_;
   }
 
-  std::size_t lines() const { return lines_; }
-
  private:
   const char* begin_[kArrays] = {};
   std::size_t lines_ = 0, next_ = 0;

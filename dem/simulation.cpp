@@ -483,7 +483,6 @@ void Simulation::sum_forces_on_bodies(double half_kick) {
   const Particles& p = particles_;
   const Vec3 g = settings_.gravity;
   const std::size_t n = p.size();
-  const bool indexed = b.sphere_start.size() == b.size() + 1 && b.sphere_slot.size() == n;
 #pragma omp parallel if(n >= parallel_min_items())
   {
     const int team = omp_get_num_threads(), thread = omp_get_thread_num();
@@ -494,7 +493,7 @@ void Simulation::sum_forces_on_bodies(double half_kick) {
     // from the start, a sphere per body, they have arrived when their bodies come (dem/boundary_lines.hpp;
     // docs/performance.md, "2026-12-05 (fifth session)").
     std::size_t ahead = 0, ahead_end = 0;
-    if (thread < team - 1 && indexed) {
+    if (thread < team - 1) {
       std::size_t mine_first = 0;
       forces_.thread_spheres(n, team, thread, mine_first, ahead);
       ahead_end = std::min(n, ahead + body_slot_span_);
