@@ -9,7 +9,7 @@
 // round trip, docs/performance.md), for each of a few hundred lines per step, met one by one in a
 // loop that has little else to do. Requested for writing a line at a time during the loop before,
 // whose own arithmetic hides the transfers, they are this core's when the loop comes to them. (The
-// body sums do the same for reading: Simulation::sum_forces_on_bodies.)
+// body sums do the same for reading: Simulation::sum_bodies.)
 //
 // Only a hint: which lines are requested changes the time a step takes, never its numbers.
 

@@ -83,8 +83,9 @@ void ForceField::setup(const MaterialTable& mt, const std::vector<Wall>& walls, 
   list_generation_ = ~std::uint64_t{0};  // the contact flags are made again under the new models
 }
 
-ForceDiagnostics ForceField::compute(Particles& p, NeighborList& nl, const std::vector<Wall>& walls, double dt) {
-  return std::visit([&](const auto& m) { return compute_with(m, p, nl, walls, dt); }, models_);
+ForceDiagnostics ForceField::compute(Particles& p, NeighborList& nl, const std::vector<Wall>& walls, double dt,
+                                     AfterForces* after) {
+  return std::visit([&](const auto& m) { return compute_with(m, p, nl, walls, dt, after); }, models_);
 }
 
 /// Sphere i's wall contacts, queued in the batch; histories found by (wall, feature) among last
@@ -221,7 +222,7 @@ void ForceField::flush_pairs(PairBatch<Rolling>& b, double dt, Particles& p, Nei
 
 template <class Rolling>
 ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p, NeighborList& nl,
-                                          const std::vector<Wall>& walls, double dt) {
+                                          const std::vector<Wall>& walls, double dt, AfterForces* after) {
   const std::size_t n = p.size();
   const std::size_t entries = nl.entries();
   partner_share_.resize(entries);
@@ -265,6 +266,8 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
     split_stale_ = false;
   }
 
+  signals_.reserve(team);
+  const std::uint64_t pairs_done = signals_.next_epoch(), forces_done = signals_.next_epoch();
   std::size_t contacts = 0, wall_contacts = 0;
   double worst_ratio = 0, stiff_pair = 0;  // stiff_*: max S_n / m* (for the omega dt monitor)
   std::int64_t bad = std::numeric_limits<std::int64_t>::max();
@@ -295,7 +298,8 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
   // Each thread takes one range of blocks, the same from step to step until the split is made again
   // (dem/work_split.hpp: ranges of about equal time, so that a sphere's state stays on one core). A
   // thread cannot complete its first spheres whose pairs have owners before its range (slots [range
-  // start, NeighborList::reach_before(range start))): they are completed after a barrier.
+  // start, NeighborList::reach_before(range start))): they are completed once the threads below have
+  // evaluated their pairs.
 #pragma omp parallel if(n >= parallel_min_items()) reduction(+ : contacts, wall_contacts) \
     reduction(max : worst_ratio, stiff_pair, worst_wall, stiff_wall) reduction(min : bad, overflow)
   {
@@ -394,7 +398,7 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
     std::size_t mine = 0, mine_end = 0;
     thread_blocks(n, threads, thread, mine, mine_end);
     const std::size_t first = std::min(n, mine * kPassBlock), end = std::min(n, mine_end * kPassBlock);
-    // Spheres before `done` are completed, or left for after the barrier: [first, deferred).
+    // Spheres before `done` are completed, or left for after the threads below: [first, deferred).
     const std::size_t deferred = first < end ? std::min<std::size_t>(end, nl.reach_before(first)) : first;
     std::size_t done = std::max(first, deferred);
     // A full batch evaluated: the spheres before the owner of its last contact are complete. Their
@@ -495,8 +499,12 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
     flush_pairs(batch, dt, p, nl, open, worst_ratio, stiff_pair);
     if (open.slot < n) force[open.slot] = open.force, torque[open.slot] = open.torque;
     if (fused && end > done) complete(done, end);
+    // The spheres' shares of the pairs this thread owns are stored: the threads above may complete
+    // their first spheres (dem/team_signals.hpp). This thread waits only for those below: a sphere's
+    // shares come from pairs owned by smaller slots.
+    signals_.post(thread, pairs_done);
     busy += omp_get_wtime();
-#pragma omp barrier
+    for (int below = 0; below < thread; ++below) signals_.wait(below, pairs_done);
     busy -= omp_get_wtime();
     if (fused) {
       // The first spheres of the range, whose pairs with owners before it are all evaluated now.
@@ -511,6 +519,9 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
     overflow = std::min(overflow, ws.overflow);
     worst_wall = std::max(worst_wall, ws.worst_ratio);
     stiff_wall = std::max(stiff_wall, ws.stiffness_per_mass);
+    // This thread's spheres' forces are complete.
+    signals_.post(thread, forces_done);
+    if (after != nullptr) after->run(ForceTeam(signals_, forces_done, threads, thread));
   }
 
   work_split_.step_done();

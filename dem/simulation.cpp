@@ -179,7 +179,7 @@ void Simulation::setup() {
   for (Wall& w : walls_) w.move_to(time_);
   move_spheres_with_bodies();
   rebuild(choose_skin());
-  compute_forces();
+  compute_forces(0);
   ready_ = true;
 }
 
@@ -440,12 +440,6 @@ inline double follow_body(Particles& p, const Bodies& b, std::size_t s, const do
 }
 }  // namespace
 
-void Simulation::compute_forces() {
-  diag_ = forces_.compute(particles_, neighbors_, walls_, dt_);
-  check_health();
-  sum_forces_on_bodies();
-}
-
 void Simulation::thread_bodies(int team, int t, std::size_t& first, std::size_t& last) const {
   // Thread t's share of the spheres follows the force loop's split, which is cut by cost; each
   // per-sphere and per-body loop of a step takes the same share, so that a sphere's state, and its
@@ -461,14 +455,6 @@ void Simulation::thread_bodies(int team, int t, std::size_t& first, std::size_t&
   }
   // Bodies are numbered in the order of their first sphere's slot (renumber_bodies), so those whose
   // first sphere lies in [s0, s1) are the bodies [first body at or after s0, first body at or after s1).
-  auto first_body_at = [&](std::size_t s) {
-    std::size_t lo = 0, hi = nb;
-    while (lo < hi) {
-      const std::size_t mid = lo + (hi - lo) / 2;
-      if (b.sphere_slot[b.sphere_start[mid]] < s) lo = mid + 1; else hi = mid;
-    }
-    return lo;
-  };
   std::size_t s0 = 0, s1 = 0;
   forces_.thread_spheres(n, team, t, s0, s1);
   first = t == 0 ? 0 : first_body_at(s0);
@@ -476,34 +462,52 @@ void Simulation::thread_bodies(int team, int t, std::size_t& first, std::size_t&
   assert(first <= last);
 }
 
-void Simulation::sum_forces_on_bodies(double half_kick) {
+std::size_t Simulation::first_body_at(std::size_t slot) const {
+  const Bodies& b = bodies_;
+  std::size_t lo = 0, hi = b.size();
+  while (lo < hi) {
+    const std::size_t mid = lo + (hi - lo) / 2;
+    if (b.sphere_slot[b.sphere_start[mid]] < slot) lo = mid + 1; else hi = mid;
+  }
+  return lo;
+}
+
+void Simulation::sum_bodies(const ForceTeam& team, double half_kick) {
   // Per body: its spheres' contact forces summed about its centre, plus gravity; with half_kick > 0
-  // also the half kick that follows them in a step (one pass over the bodies instead of two).
+  // also the half kick that follows them in a step (one pass over the bodies instead of two). Run by
+  // each thread of the force loop's team as soon as its own spheres' forces are complete
+  // (ForceField::compute): the bodies that start in its range have their spheres in it, but for its
+  // last few, which may have spheres in the ranges above; for those it waits for the threads above.
   Bodies& b = bodies_;
   const Particles& p = particles_;
   const Vec3 g = settings_.gravity;
-  const std::size_t n = p.size();
-#pragma omp parallel if(n >= parallel_min_items())
-  {
-    const int team = omp_get_num_threads(), thread = omp_get_thread_num();
-    std::size_t first = 0, last = 0;
-    thread_bodies(team, thread, first, last);
-    // This thread's last bodies may have spheres in the next thread's range (up to body_slot_span_
-    // slots past its end), whose forces and positions were written on the other core: requested
-    // from the start, a sphere per body, they have arrived when their bodies come (dem/boundary_lines.hpp;
-    // docs/performance.md, "2026-12-05 (fifth session)").
-    std::size_t ahead = 0, ahead_end = 0;
-    if (thread < team - 1) {
-      std::size_t mine_first = 0;
-      forces_.thread_spheres(n, team, thread, mine_first, ahead);
-      ahead_end = std::min(n, ahead + body_slot_span_);
-    }
-    for (std::size_t k = first; k < last; ++k) {
-      while (ahead < ahead_end) {
-        const std::size_t s = ahead++;
+  const std::size_t n = p.size(), nb = b.size();
+  const int thread = team.thread();
+  std::size_t first = 0, last = 0, sphere_first = 0, sphere_last = 0;
+  thread_bodies(team.size(), thread, first, last);
+  forces_.thread_spheres(n, team.size(), thread, sphere_first, sphere_last);
+  // The list build before the force loop indexed the spheres by body, so thread_bodies gave the
+  // bodies that start in the range; were it not so, every body could have spheres anywhere.
+  const bool by_range = b.sphere_start.size() == nb + 1 && b.sphere_slot.size() == n;
+  assert(by_range);
+  std::size_t crossing = last;  // bodies [crossing, last) may have spheres above the range
+  if (!by_range) {
+    team.wait_all();
+  } else if (thread < team.size() - 1) {
+    crossing = std::clamp(first_body_at(sphere_last > body_slot_span_ ? sphere_last - body_slot_span_ : 0), first, last);
+  }
+  // The spheres above the range that belong to this thread's bodies (up to body_slot_span_ slots
+  // past its end) had their forces written on the other core: requested once they are final, two
+  // spheres per body, they have arrived when their bodies come (docs/performance.md, "2026-12-05
+  // (fifth session)").
+  std::size_t ahead = sphere_last, ahead_end = sphere_last;
+  auto sum = [&](std::size_t from, std::size_t to) {
+    for (std::size_t k = from; k < to; ++k) {
+      for (int fetched = 0; fetched < 2 && ahead < ahead_end; ++ahead) {
+        const std::size_t s = ahead;
         if (p.body[s] >= first && p.body[s] < last) {
           __builtin_prefetch(&p.force[s]), __builtin_prefetch(&p.torque[s]), __builtin_prefetch(&p.x[s]);
-          break;
+          ++fetched;
         }
       }
       Vec3 f{}, t{};
@@ -519,11 +523,31 @@ void Simulation::sum_forces_on_bodies(double half_kick) {
         b.L[k] += half_kick * b.torque[k];
       }
     }
+  };
+  sum(first, crossing);
+  if (crossing < last) {
+    team.wait_above();
+    ahead_end = std::min(n, sphere_last + body_slot_span_);
+    sum(crossing, last);
   }
+}
+
+void Simulation::compute_forces(double half_kick) {
+  // The forces, then the bodies' sums in the same parallel region (ForceField::compute's follow-up).
+  struct BodySums final : AfterForces {
+    Simulation& sim;
+    double half_kick;
+    BodySums(Simulation& s, double h) : sim(s), half_kick(h) {}
+    void run(const ForceTeam& team) override { sim.sum_bodies(team, half_kick); }
+  } sums(*this, half_kick);
+  diag_ = forces_.compute(particles_, neighbors_, walls_, dt_, &sums);
   // omega = omega(q, L) is not made here: the next drift makes it afresh from L after its half kick,
   // and nothing in between reads it, so it is made only for a reader (update_body_omega). A clump's
   // omega, two rotations and three divisions, was a third of this loop on the clump bed.
   if (half_kick > 0) body_omega_lags_ = true;
+  // A blow-up is reported with the state it happened in: the sums above change only the bodies'
+  // forces, velocities and angular momenta, which the report does not read.
+  check_health();
 }
 
 void Simulation::update_body_omega() const {
@@ -632,11 +656,20 @@ void Simulation::drift(double dt) {
   // than each body writing its spheres (slots scattered over the arrays; measured: docs/performance.md).
   Bodies& b = bodies_;
   Particles& p = particles_;
-  const std::size_t n = p.size();
+  const std::size_t n = p.size(), nb = b.size();
   const double half = 0.5 * dt;
   double moved2 = 0;
   const double* slack = neighbors_.slack2().data();
   const std::size_t slack_n = neighbors_.slack2().size();
+  // With the spheres indexed by body, a thread's bodies are those that start in its sphere range
+  // (thread_bodies), so its spheres belong to its own bodies, but for the first few of those crossing
+  // from the ranges below. Each thread turns those crossing bodies first and posts; the thread above
+  // waits for the posts below before its sphere loop (dem/team_signals.hpp). Else (bodies added since
+  // the last build) the bodies are shared out equally and the sphere loop waits at a barrier.
+  const bool by_range = b.sphere_start.size() == nb + 1 && b.sphere_slot.size() == n;
+  const int max_team = n >= parallel_min_items() ? omp_get_max_threads() : 1;
+  drift_signals_.reserve(max_team);
+  const std::uint64_t epoch = drift_signals_.next_epoch();
 #pragma omp parallel if(n >= parallel_min_items()) reduction(max : moved2)
   {
     // Each thread the bodies and spheres it takes in the force loop (thread_bodies).
@@ -661,35 +694,51 @@ void Simulation::drift(double dt) {
       free_rotation_step(b.q[k], b.L[k], b.inertia[k], dt);
       b.omega[k] = body_angular_velocity(b.q[k], b.L[k], b.inertia[k]);
     };
-    for (std::size_t first = body_first; first < body_last; first += RotationBatch::kCapacity) {
-      const std::size_t last = std::min(body_last, first + RotationBatch::kCapacity);
-      batch.size = 0;
-      for (std::size_t k = first; k < last; ++k) {
-        boundary.fetch_next_for_write();
-        b.v[k] += (half * b.inv_mass[k]) * b.force[k];
-        b.L[k] += half * b.torque[k];
-        b.x[k] += dt * b.v[k];
-        const Vec3& inertia = b.inertia[k];
-        if (inertia.x == inertia.y && inertia.y == inertia.z) {  // a sphere: one exact rotation
-          const Vec3 w = (1.0 / inertia.x) * b.L[k];
-          free_rotation_isotropic(b.q[k], w, dt);
-          b.omega[k] = w;
-        } else {
-          batch.add(static_cast<std::uint32_t>(k), b.q[k], b.L[k], inertia);
+    auto turn = [&](std::size_t from, std::size_t to) {  // bodies [from, to)
+      for (std::size_t first = from; first < to; first += RotationBatch::kCapacity) {
+        const std::size_t last = std::min(to, first + RotationBatch::kCapacity);
+        batch.size = 0;
+        for (std::size_t k = first; k < last; ++k) {
+          boundary.fetch_next_for_write();
+          b.v[k] += (half * b.inv_mass[k]) * b.force[k];
+          b.L[k] += half * b.torque[k];
+          b.x[k] += dt * b.v[k];
+          const Vec3& inertia = b.inertia[k];
+          if (inertia.x == inertia.y && inertia.y == inertia.z) {  // a sphere: one exact rotation
+            const Vec3 w = (1.0 / inertia.x) * b.L[k];
+            free_rotation_isotropic(b.q[k], w, dt);
+            b.omega[k] = w;
+          } else {
+            batch.add(static_cast<std::uint32_t>(k), b.q[k], b.L[k], inertia);
+          }
+        }
+        batch.rotate(dt);
+        for (int c = 0; c < batch.size; ++c) {
+          const std::uint32_t k = batch.body[c];
+          if (batch.in_range[c]) {
+            b.q[k] = {batch.qw[c], batch.qx[c], batch.qy[c], batch.qz[c]};
+            b.omega[k] = {batch.wx[c], batch.wy[c], batch.wz[c]};
+          } else {  // turned too far in one step for the series: the general path, from the old q
+            rotate_alone(k);
+          }
         }
       }
-      batch.rotate(dt);
-      for (int c = 0; c < batch.size; ++c) {
-        const std::uint32_t k = batch.body[c];
-        if (batch.in_range[c]) {
-          b.q[k] = {batch.qw[c], batch.qx[c], batch.qy[c], batch.qz[c]};
-          b.omega[k] = {batch.wx[c], batch.wy[c], batch.wz[c]};
-        } else {  // turned too far in one step for the series: the general path, from the old q
-          rotate_alone(k);
-        }
-      }
-    }
+    };
+    if (by_range) {
+      // This thread's bodies that may have spheres above its range: those starting within the
+      // widest body's span of its end (none for the last thread).
+      const std::size_t crossing =
+          thread == team - 1 ? body_last
+                             : std::clamp(first_body_at(sphere_last > body_slot_span_ ? sphere_last - body_slot_span_ : 0),
+                                          body_first, body_last);
+      turn(crossing, body_last);
+      drift_signals_.post(thread, epoch);
+      turn(body_first, crossing);
+      for (int below = 0; below < thread; ++below) drift_signals_.wait(below, epoch);
+    } else {
+      turn(body_first, body_last);
 #pragma omp barrier
+    }
     for (std::size_t s = sphere_first; s < sphere_last; ++s) moved2 = std::max(moved2, follow_body(p, b, s, slack, slack_n));
   }
   moved2_ = moved2;
@@ -726,10 +775,8 @@ void Simulation::step() {
   } else if (const double skin = early_rebuild_skin(); skin > 0) {
     rebuild(skin);
   }
-  diag_ = forces_.compute(particles_, neighbors_, walls_, dt_);
-  check_health();
+  compute_forces(0.5 * dt_);  // and the bodies' sums with the second half kick
   if (settings_.stability_interval > 0 && steps_ % settings_.stability_interval == 0) check_stability();
-  sum_forces_on_bodies(0.5 * dt_);  // and the second half kick
 }
 
 const StepStability& Simulation::check_stability() {

@@ -26,6 +26,7 @@
 #include "dem/rolling_model.hpp"
 #include "dem/shape.hpp"
 #include "dem/step_stability.hpp"
+#include "dem/team_signals.hpp"
 #include "dem/wall.hpp"
 
 namespace grainscale::dem {
@@ -152,7 +153,8 @@ class Simulation {
   void rebuild(double skin);
   double choose_skin() const;
   double early_rebuild_skin() const;  // the skin of a build due before the list is stale; 0: none
-  void compute_forces();
+  /// Forces, then the bodies' sums (with a half kick if > 0) in the same region; then the health check.
+  void compute_forces(double half_kick);
   void check_health();
   std::uint64_t add_body(double mass, const Vec3& inertia, const Vec3& x, const Quat& q, const Vec3& v,
                          const Vec3& omega, int shape);
@@ -164,10 +166,13 @@ class Simulation {
   void move_spheres_with_bodies();
   void index_spheres_by_body();
   void renumber_bodies();
-  void sum_forces_on_bodies(double half_kick = 0);
+  /// Thread team.thread()'s share of the bodies' sums (in the force loop's region: compute_forces).
+  void sum_bodies(const ForceTeam& team, double half_kick);
   /// The bodies [first, last) thread t of a team of `team` takes in the per-body loops: those whose
   /// first sphere lies in the spheres it takes in the force loop (ForceField::thread_spheres).
   void thread_bodies(int team, int t, std::size_t& first, std::size_t& last) const;
+  /// The first body whose first sphere is at or after `slot` (bodies indexed by sphere).
+  std::size_t first_body_at(std::size_t slot) const;
 
   MaterialTable materials_;
   SimulationSettings settings_;
@@ -184,6 +189,7 @@ class Simulation {
   std::uint64_t steps_ = 0, next_sphere_id_ = 0;
   double moved2_ = 0;  // largest squared sphere displacement since the last neighbour build
   std::vector<std::uint32_t> body_fill_;  // scratch for index_spheres_by_body
+  TeamSignals drift_signals_;             // the drift's waits for the bodies that cross a cut (drift)
   std::size_t body_slot_span_ = 0;        // the most slots between two spheres of one body (index_spheres_by_body)
   std::vector<std::uint32_t> body_order_, body_new_index_;  // scratch for renumber_bodies
   /// Mass properties of each distinct sphere set added so far (mass_properties_of).

@@ -1,0 +1,77 @@
+#pragma once
+// Point-to-point waits between the threads of a parallel region, in place of barriers.
+//
+// A step's loops give each thread one range of spheres and the bodies that start in it
+// (dem/work_split.hpp), so a thread depends on its neighbours for a few things only: the thread
+// above follows spheres of the bodies that cross the cut, which the thread below turns (the drift);
+// it completes its first spheres with the shares of pairs the thread below owns (the force loop);
+// and the thread below sums bodies with spheres in the range above (the body sums). A barrier made
+// both threads wait for the slower at each of those points, though only one of them needed the
+// other, and only for part of its work; and a libgomp barrier costs 1.6-1.8 µs on this project's
+// 2-vCPU VMs, an empty parallel region 3.2-3.7 µs, against ~0.4 µs for a line passed between the
+// cores (docs/performance.md, "2026-12-05 (fifth session)"). Here thread t posts when it has done
+// what the others need, at the point it is done, and a thread that needs it waits for that post
+// only when it comes to the work that needs it.
+//
+// Posts carry a count that rises from one use to the next (the caller's epoch), so nothing is ever
+// reset and a post from an earlier step cannot be mistaken for this one. Release on post and acquire
+// on wait order the data written before the post before the reads after the wait.
+//
+// Only the timing changes: every sum has the same terms in the same order as with barriers.
+
+#include <algorithm>
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <thread>
+
+namespace grainscale::dem {
+
+class TeamSignals {
+ public:
+  TeamSignals() = default;
+  // Posts are the state of one region only: a copy (of a simulation) starts with none.
+  TeamSignals(const TeamSignals& o) : epoch_(o.epoch_) {}
+  TeamSignals& operator=(const TeamSignals& o) {
+    epoch_ = std::max(epoch_, o.epoch_);
+    return *this;
+  }
+
+  /// Room for a team of `threads` (outside a parallel region). Keeps the posts of a team that fits.
+  void reserve(int threads) {
+    if (threads <= size_) return;
+    slots_ = std::make_unique<Slot[]>(static_cast<std::size_t>(threads));
+    size_ = threads;
+  }
+  /// The next epoch to post and wait for (outside a parallel region, once per use).
+  std::uint64_t next_epoch() { return ++epoch_; }
+
+  /// Thread t has done this epoch's work that others wait for.
+  void post(int t, std::uint64_t epoch) { slots_[t].value.store(epoch, std::memory_order_release); }
+
+  /// Waits until thread t has posted `epoch` (or a later one). Spins, as the step's other waits do,
+  /// but yields the core after a while: with more threads than cores (the tests run 4 on 2) the
+  /// thread waited for may need it.
+  void wait(int t, std::uint64_t epoch) const {
+    for (std::uint32_t spins = 0; slots_[t].value.load(std::memory_order_acquire) < epoch; ++spins) {
+      if (spins < kSpinsBeforeYield) {
+#if defined(__x86_64__) || defined(__i386__)
+        __builtin_ia32_pause();
+#endif
+      } else {
+        std::this_thread::yield();
+      }
+    }
+  }
+
+ private:
+  static constexpr std::uint32_t kSpinsBeforeYield = 1u << 14;  // ~0.1-1 ms of pauses
+  struct alignas(64) Slot {  // one line per thread: a post invalidates only its own
+    std::atomic<std::uint64_t> value{0};
+  };
+  std::unique_ptr<Slot[]> slots_;
+  int size_ = 0;
+  std::uint64_t epoch_ = 0;
+};
+
+}  // namespace grainscale::dem
