@@ -34,6 +34,20 @@ struct Bodies {
 
   std::size_t size() const { return id.size(); }
 
+  /// True while sphere_start / sphere_slot index the bodies of `spheres` spheres (they are made at
+  /// each renumbering; bodies or spheres added since have none).
+  bool indexed(std::size_t spheres) const { return sphere_start.size() == size() + 1 && sphere_slot.size() == spheres; }
+  /// The first body whose first sphere is at or after `slot` (indexed bodies, numbered in the order
+  /// of their first sphere): the bodies that start in the slots [s0, s1) are [first_at(s0), first_at(s1)).
+  std::size_t first_at(std::size_t slot) const {
+    std::size_t lo = 0, hi = size();
+    while (lo < hi) {
+      const std::size_t mid = lo + (hi - lo) / 2;
+      if (sphere_slot[sphere_start[mid]] < slot) lo = mid + 1; else hi = mid;
+    }
+    return lo;
+  }
+
   /// Reorder the per-body arrays (not sphere_start / sphere_slot, which the caller rebuilds) so that
   /// new index k holds what old index new_to_old[k] held. Allocation-free once the scratch buffers
   /// have reached the body count.

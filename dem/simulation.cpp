@@ -449,7 +449,7 @@ void Simulation::thread_bodies(int team, int t, std::size_t& first, std::size_t&
   // the step at barriers, 9-10 % with one split (docs/performance.md, "2026-12-05 (fourth session)").
   const Bodies& b = bodies_;
   const std::size_t nb = b.size(), n = particles_.size();
-  if (b.sphere_start.size() != nb + 1 || b.sphere_slot.size() != n) {  // bodies added since the last build
+  if (!b.indexed(n)) {  // bodies added since the last build
     equal_share(nb, team, t, first, last);
     return;
   }
@@ -457,19 +457,9 @@ void Simulation::thread_bodies(int team, int t, std::size_t& first, std::size_t&
   // first sphere lies in [s0, s1) are the bodies [first body at or after s0, first body at or after s1).
   std::size_t s0 = 0, s1 = 0;
   forces_.thread_spheres(n, team, t, s0, s1);
-  first = t == 0 ? 0 : first_body_at(s0);
-  last = t == team - 1 ? nb : first_body_at(s1);
+  first = t == 0 ? 0 : b.first_at(s0);
+  last = t == team - 1 ? nb : b.first_at(s1);
   assert(first <= last);
-}
-
-std::size_t Simulation::first_body_at(std::size_t slot) const {
-  const Bodies& b = bodies_;
-  std::size_t lo = 0, hi = b.size();
-  while (lo < hi) {
-    const std::size_t mid = lo + (hi - lo) / 2;
-    if (b.sphere_slot[b.sphere_start[mid]] < slot) lo = mid + 1; else hi = mid;
-  }
-  return lo;
 }
 
 void Simulation::sum_bodies(const ForceTeam& team, double half_kick) {
@@ -481,20 +471,20 @@ void Simulation::sum_bodies(const ForceTeam& team, double half_kick) {
   Bodies& b = bodies_;
   const Particles& p = particles_;
   const Vec3 g = settings_.gravity;
-  const std::size_t n = p.size(), nb = b.size();
+  const std::size_t n = p.size();
   const int thread = team.thread();
   std::size_t first = 0, last = 0, sphere_first = 0, sphere_last = 0;
   thread_bodies(team.size(), thread, first, last);
   forces_.thread_spheres(n, team.size(), thread, sphere_first, sphere_last);
   // The list build before the force loop indexed the spheres by body, so thread_bodies gave the
   // bodies that start in the range; were it not so, every body could have spheres anywhere.
-  const bool by_range = b.sphere_start.size() == nb + 1 && b.sphere_slot.size() == n;
+  const bool by_range = b.indexed(n);
   assert(by_range);
   std::size_t crossing = last;  // bodies [crossing, last) may have spheres above the range
   if (!by_range) {
     team.wait_all();
   } else if (thread < team.size() - 1) {
-    crossing = std::clamp(first_body_at(sphere_last > body_slot_span_ ? sphere_last - body_slot_span_ : 0), first, last);
+    crossing = std::clamp(b.first_at(sphere_last > body_slot_span_ ? sphere_last - body_slot_span_ : 0), first, last);
   }
   // The spheres above the range that belong to this thread's bodies (up to body_slot_span_ slots
   // past its end) had their forces written on the other core: requested once they are final, two
@@ -656,7 +646,7 @@ void Simulation::drift(double dt) {
   // than each body writing its spheres (slots scattered over the arrays; measured: docs/performance.md).
   Bodies& b = bodies_;
   Particles& p = particles_;
-  const std::size_t n = p.size(), nb = b.size();
+  const std::size_t n = p.size();
   const double half = 0.5 * dt;
   double moved2 = 0;
   const double* slack = neighbors_.slack2().data();
@@ -666,7 +656,7 @@ void Simulation::drift(double dt) {
   // from the ranges below. Each thread turns those crossing bodies first and posts; the thread above
   // waits for the posts below before its sphere loop (dem/team_signals.hpp). Else (bodies added since
   // the last build) the bodies are shared out equally and the sphere loop waits at a barrier.
-  const bool by_range = b.sphere_start.size() == nb + 1 && b.sphere_slot.size() == n;
+  const bool by_range = b.indexed(n);
   const int max_team = n >= parallel_min_items() ? omp_get_max_threads() : 1;
   drift_signals_.reserve(max_team);
   const std::uint64_t epoch = drift_signals_.next_epoch();
@@ -729,7 +719,7 @@ void Simulation::drift(double dt) {
       // widest body's span of its end (none for the last thread).
       const std::size_t crossing =
           thread == team - 1 ? body_last
-                             : std::clamp(first_body_at(sphere_last > body_slot_span_ ? sphere_last - body_slot_span_ : 0),
+                             : std::clamp(b.first_at(sphere_last > body_slot_span_ ? sphere_last - body_slot_span_ : 0),
                                           body_first, body_last);
       turn(crossing, body_last);
       drift_signals_.post(thread, epoch);

@@ -171,8 +171,6 @@ class Simulation {
   /// The bodies [first, last) thread t of a team of `team` takes in the per-body loops: those whose
   /// first sphere lies in the spheres it takes in the force loop (ForceField::thread_spheres).
   void thread_bodies(int team, int t, std::size_t& first, std::size_t& last) const;
-  /// The first body whose first sphere is at or after `slot` (bodies indexed by sphere).
-  std::size_t first_body_at(std::size_t slot) const;
 
   MaterialTable materials_;
   SimulationSettings settings_;
