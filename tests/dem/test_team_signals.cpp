@@ -1,0 +1,55 @@
+// Point-to-point waits between threads (dem/team_signals.hpp): a thread that waits for another's
+// post of an epoch sees everything that thread wrote before posting it, for epoch after epoch, with
+// as many threads as cores and with more (the waits must then give up their core). That the step's
+// results do not depend on these waits is the determinism tests' part (1 to 4 threads, same bits).
+#include <catch2/catch.hpp>
+
+#include <omp.h>
+
+#include <cstdint>
+#include <vector>
+
+#include "dem/team_signals.hpp"
+
+using namespace grainscale::dem;
+
+TEST_CASE("A thread that waits for a post sees what was written before it", "[dem][threads][signals]") {
+  const int threads = GENERATE(2, 4);
+  constexpr int kRounds = 2000;
+  constexpr std::size_t kWords = 64;  // several cache lines, written one by one before each post
+  TeamSignals signals;
+  signals.reserve(threads);
+  std::vector<std::uint64_t> epochs(kRounds);
+  for (std::uint64_t& e : epochs) e = signals.next_epoch();
+  // Thread t writes its block, then posts; thread t + 1 waits for that post and checks the block,
+  // round after round: a relay around the team, so every thread both posts and waits.
+  std::vector<std::vector<std::uint64_t>> block(threads, std::vector<std::uint64_t>(kWords, 0));
+  std::vector<int> mismatches(threads, 0);
+#pragma omp parallel num_threads(threads)
+  {
+    const int team = omp_get_num_threads(), t = omp_get_thread_num();
+    const int before = (t + team - 1) % team;
+    for (int r = 0; r < kRounds; ++r) {
+      const std::uint64_t e = epochs[r];
+      if (r > 0 || t > 0) signals.wait(before, t == 0 ? epochs[r - 1] : e);  // the relay's order
+      for (std::size_t w = 0; w < kWords; ++w) mismatches[t] += t > 0 && block[before][w] != e;
+      for (std::size_t w = 0; w < kWords; ++w) block[t][w] = e;
+      signals.post(t, e);
+    }
+  }
+  for (int t = 0; t < threads; ++t) CHECK(mismatches[t] == 0);
+}
+
+TEST_CASE("A wait for an epoch already posted, or passed, returns at once", "[dem][threads][signals]") {
+  TeamSignals signals;
+  signals.reserve(2);
+  const std::uint64_t first = signals.next_epoch(), second = signals.next_epoch();
+  REQUIRE(second > first);
+  signals.post(1, second);
+  signals.wait(1, first);   // an earlier epoch: passed
+  signals.wait(1, second);  // this one: posted
+  // A copy (of a simulation) keeps counting from where the original was, with no posts of its own.
+  TeamSignals copy = signals;
+  copy.reserve(2);
+  CHECK(copy.next_epoch() > second);
+}
