@@ -462,6 +462,14 @@ void Simulation::thread_bodies(int team, int t, std::size_t& first, std::size_t&
   assert(first <= last);
 }
 
+std::size_t Simulation::first_crossing_body(int team, int t, std::size_t first, std::size_t last,
+                                            std::size_t sphere_last) const {
+  // A body spans at most body_slot_span_ slots, so only those starting within that of the range's
+  // end can reach past it; the last thread's range has no end to reach past.
+  if (t == team - 1) return last;
+  return std::clamp(bodies_.first_at(sphere_last > body_slot_span_ ? sphere_last - body_slot_span_ : 0), first, last);
+}
+
 void Simulation::sum_bodies(const ForceTeam& team, double half_kick) {
   // Per body: its spheres' contact forces summed about its centre, plus gravity; with half_kick > 0
   // also the half kick that follows them in a step (one pass over the bodies instead of two). Run by
@@ -483,8 +491,8 @@ void Simulation::sum_bodies(const ForceTeam& team, double half_kick) {
   std::size_t crossing = last;  // bodies [crossing, last) may have spheres above the range
   if (!by_range) {
     team.wait_all();
-  } else if (thread < team.size() - 1) {
-    crossing = std::clamp(b.first_at(sphere_last > body_slot_span_ ? sphere_last - body_slot_span_ : 0), first, last);
+  } else {
+    crossing = first_crossing_body(team.size(), thread, first, last, sphere_last);
   }
   // The spheres above the range that belong to this thread's bodies (up to body_slot_span_ slots
   // past its end) had their forces written on the other core: requested once they are final, two
@@ -715,12 +723,7 @@ void Simulation::drift(double dt) {
       }
     };
     if (by_range) {
-      // This thread's bodies that may have spheres above its range: those starting within the
-      // widest body's span of its end (none for the last thread).
-      const std::size_t crossing =
-          thread == team - 1 ? body_last
-                             : std::clamp(b.first_at(sphere_last > body_slot_span_ ? sphere_last - body_slot_span_ : 0),
-                                          body_first, body_last);
+      const std::size_t crossing = first_crossing_body(team, thread, body_first, body_last, sphere_last);
       turn(crossing, body_last);
       drift_signals_.post(thread, epoch);
       turn(body_first, crossing);

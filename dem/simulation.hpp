@@ -171,6 +171,9 @@ class Simulation {
   /// The bodies [first, last) thread t of a team of `team` takes in the per-body loops: those whose
   /// first sphere lies in the spheres it takes in the force loop (ForceField::thread_spheres).
   void thread_bodies(int team, int t, std::size_t& first, std::size_t& last) const;
+  /// Of thread t's bodies [first, last) (bodies indexed by sphere), the first that may have spheres
+  /// at or beyond its sphere range's end `sphere_last`: [result, last) cross into the ranges above.
+  std::size_t first_crossing_body(int team, int t, std::size_t first, std::size_t last, std::size_t sphere_last) const;
 
   MaterialTable materials_;
   SimulationSettings settings_;
