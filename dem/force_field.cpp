@@ -6,6 +6,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -85,7 +86,31 @@ void ForceField::setup(const MaterialTable& mt, const std::vector<Wall>& walls, 
 
 ForceDiagnostics ForceField::compute(Particles& p, NeighborList& nl, const std::vector<Wall>& walls, double dt,
                                      AfterForces* after) {
-  return std::visit([&](const auto& m) { return compute_with(m, p, nl, walls, dt, after); }, models_);
+  const int team = p.size() >= parallel_min_items() ? omp_get_max_threads() : 1;
+  begin(p, nl, walls, team);
+#pragma omp parallel if(team > 1) num_threads(team)
+  pass(omp_get_num_threads(), omp_get_thread_num(), p, nl, walls, dt, after);
+  return finish(dt);
+}
+
+void ForceField::begin(Particles& p, NeighborList& nl, const std::vector<Wall>& walls, int team) {
+  std::visit([&](const auto& m) { begin_with(m, p, nl, walls, team); }, models_);
+}
+
+void ForceField::pass(int threads, int thread, Particles& p, NeighborList& nl, const std::vector<Wall>& walls, double dt,
+                      AfterForces* after) {
+  std::visit([&](const auto& m) { pass_with(m, threads, thread, p, nl, walls, dt, after); }, models_);
+}
+
+bool ForceField::begins_in_team(const Particles& p, const NeighborList& nl, const std::vector<Wall>& walls,
+                                int team) const {
+  // What begin() finds ready when it neither allocates nor runs a loop of its own (parallel or long):
+  // a compute since the last list build (the flags, the masks, the block costs made), walls not moved
+  // beyond their masks' margins, and room for the team.
+  const std::size_t n = p.size(), entries = nl.entries();
+  return list_generation_ == nl.generation() && touching_.size() == entries && partner_share_.size() == entries &&
+         wall_slots_.stride() == n && block_cost_.size() == (n + kPassBlock - 1) / kPassBlock &&
+         pass_stats_.size() >= static_cast<std::size_t>(team) && signals_.size() >= team && walls_where_found(walls);
 }
 
 /// Sphere i's wall contacts, queued in the batch; histories found by (wall, feature) among last
@@ -221,8 +246,9 @@ void ForceField::flush_pairs(PairBatch<Rolling>& b, double dt, Particles& p, Nei
 }
 
 template <class Rolling>
-ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p, NeighborList& nl,
-                                          const std::vector<Wall>& walls, double dt, AfterForces* after) {
+void ForceField::begin_with(const Models<Rolling>& m, Particles& p, NeighborList& nl, const std::vector<Wall>& walls,
+                            int team) {
+  (void)m;
   const std::size_t n = p.size();
   const std::size_t entries = nl.entries();
   partner_share_.resize(entries);
@@ -260,14 +286,24 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
                        kWallSphereCost * static_cast<double>(near);
     }
   }
-  const int team = n >= parallel_min_items() ? omp_get_max_threads() : 1;
   if (split_stale_ || work_split_.threads() != team || work_split_.rebalance()) {
     work_split_.split(block_cost_, team);
     split_stale_ = false;
   }
-
   signals_.reserve(team);
-  const std::uint64_t pairs_done = signals_.next_epoch(), forces_done = signals_.next_epoch();
+  if (pass_stats_.size() < static_cast<std::size_t>(team)) pass_stats_.resize(team);
+  pairs_done_ = signals_.next_epoch(), forces_done_ = signals_.next_epoch();
+  pass_team_ = team;
+}
+
+template <class Rolling>
+void ForceField::pass_with(const Models<Rolling>& m, int threads, int thread, Particles& p, NeighborList& nl,
+                           const std::vector<Wall>& walls, double dt, AfterForces* after) {
+  assert(threads == pass_team_ && thread < threads);
+  const std::size_t n = p.size();
+  const std::size_t entries = nl.entries();
+  const std::uint64_t pairs_done = pairs_done_, forces_done = forces_done_;
+  // This thread's part of the step's diagnostics (PassStats), combined by finish().
   std::size_t contacts = 0, wall_contacts = 0;
   double worst_ratio = 0, stiff_pair = 0;  // stiff_*: max S_n / m* (for the omega dt monitor)
   std::int64_t bad = std::numeric_limits<std::int64_t>::max();
@@ -300,8 +336,6 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
   // thread cannot complete its first spheres whose pairs have owners before its range (slots [range
   // start, NeighborList::reach_before(range start))): they are completed once the threads below have
   // evaluated their pairs.
-#pragma omp parallel if(n >= parallel_min_items()) reduction(+ : contacts, wall_contacts) \
-    reduction(max : worst_ratio, stiff_pair, worst_wall, stiff_wall) reduction(min : bad, overflow)
   {
     // Plain local pointers, declared inside the parallel region, and copied into `complete` (not
     // inlined), whose by-reference captures would make them escape: a one-byte store (the contact
@@ -393,7 +427,6 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
       }
     };
     // This thread's blocks [mine, mine_end), spheres [first, end).
-    const int threads = omp_get_num_threads(), thread = omp_get_thread_num();
     const bool as_split = threads == work_split_.threads();
     std::size_t mine = 0, mine_end = 0;
     thread_blocks(n, threads, thread, mine, mine_end);
@@ -521,17 +554,29 @@ ForceDiagnostics ForceField::compute_with(const Models<Rolling>& m, Particles& p
     stiff_wall = std::max(stiff_wall, ws.stiffness_per_mass);
     // This thread's spheres' forces are complete.
     signals_.post(thread, forces_done);
+    pass_stats_[thread] = {contacts, wall_contacts, worst_ratio, stiff_pair, worst_wall, stiff_wall, bad, overflow};
     if (after != nullptr) after->run(ForceTeam(signals_, forces_done, threads, thread));
   }
+}
 
+ForceDiagnostics ForceField::finish(double dt) {
   work_split_.step_done();
+  // Sums of counts and extremes: the same whatever the order the threads are taken in.
+  PassStats all{};
+  for (int t = 0; t < pass_team_; ++t) {
+    const PassStats& s = pass_stats_[t];
+    all.contacts += s.contacts, all.wall_contacts += s.wall_contacts;
+    all.worst_ratio = std::max(all.worst_ratio, s.worst_ratio), all.stiff_pair = std::max(all.stiff_pair, s.stiff_pair);
+    all.worst_wall = std::max(all.worst_wall, s.worst_wall), all.stiff_wall = std::max(all.stiff_wall, s.stiff_wall);
+    all.bad = std::min(all.bad, s.bad), all.overflow = std::min(all.overflow, s.overflow);
+  }
   ForceDiagnostics d;
-  d.contacts = contacts;
-  d.wall_contacts = wall_contacts;
-  d.max_overlap_ratio = std::max(worst_ratio, worst_wall);
-  d.max_omega_dt = dt * std::sqrt(std::max(stiff_pair, stiff_wall));
-  d.bad_slot = bad == std::numeric_limits<std::int64_t>::max() ? -1 : bad;
-  d.slot_overflow = overflow == std::numeric_limits<std::int64_t>::max() ? -1 : overflow;
+  d.contacts = all.contacts;
+  d.wall_contacts = all.wall_contacts;
+  d.max_overlap_ratio = std::max(all.worst_ratio, all.worst_wall);
+  d.max_omega_dt = dt * std::sqrt(std::max(all.stiff_pair, all.stiff_wall));
+  d.bad_slot = all.bad == std::numeric_limits<std::int64_t>::max() ? -1 : all.bad;
+  d.slot_overflow = all.overflow == std::numeric_limits<std::int64_t>::max() ? -1 : all.overflow;
   return d;
 }
 

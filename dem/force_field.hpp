@@ -116,8 +116,20 @@ class ForceField {
 
   void setup(const MaterialTable& materials, const std::vector<Wall>& walls, const RollingSettings& rolling);
   /// Every sphere's contact force and torque, and then `after` (if any) by each thread of the team.
+  /// begin(), a parallel region in which every thread runs pass(), then finish().
   ForceDiagnostics compute(Particles& p, NeighborList& nl, const std::vector<Wall>& walls, double dt,
                            AfterForces* after = nullptr);
+  /// compute() in its three parts, for a caller with a parallel region of its own (Simulation's
+  /// steps): begin() by one thread while the team waits for it; pass() by each of the `team`
+  /// threads; finish() by one thread once all have passed (it combines their diagnostics).
+  void begin(Particles& p, NeighborList& nl, const std::vector<Wall>& walls, int team);
+  void pass(int team, int thread, Particles& p, NeighborList& nl, const std::vector<Wall>& walls, double dt,
+            AfterForces* after);
+  ForceDiagnostics finish(double dt);
+  /// True if begin() would run no loop over the spheres or entries and allocate nothing, so that one
+  /// thread may run it inside a region while the others wait: the list used before (no build
+  /// since), the walls within their masks' margins, room for a team of `team`.
+  bool begins_in_team(const Particles& p, const NeighborList& nl, const std::vector<Wall>& walls, int team) const;
   /// Renumber the per-particle wall histories with the particles.
   void permute(const std::vector<std::uint32_t>& new_to_old);
   /// Room for the wall contacts of n particles (those of the first min(n, before) kept).
@@ -168,8 +180,19 @@ class ForceField {
   using AnyModels = std::variant<Models<NoRolling>, Models<ConstantTorqueRolling>, Models<EpsdRolling>>;
 
   template <class Rolling>
-  ForceDiagnostics compute_with(const Models<Rolling>& m, Particles& p, NeighborList& nl, const std::vector<Wall>& walls,
-                                double dt, AfterForces* after);
+  void begin_with(const Models<Rolling>& m, Particles& p, NeighborList& nl, const std::vector<Wall>& walls, int team);
+  template <class Rolling>
+  void pass_with(const Models<Rolling>& m, int team, int thread, Particles& p, NeighborList& nl,
+                 const std::vector<Wall>& walls, double dt, AfterForces* after);
+  /// A thread's part of the diagnostics of one pass (finish() combines them), a line each.
+  struct alignas(64) PassStats {
+    std::size_t contacts = 0, wall_contacts = 0;
+    double worst_ratio = 0, stiff_pair = 0, worst_wall = 0, stiff_wall = 0;
+    std::int64_t bad = std::numeric_limits<std::int64_t>::max(), overflow = std::numeric_limits<std::int64_t>::max();
+  };
+  std::vector<PassStats> pass_stats_;
+  int pass_team_ = 1;                                // the team of the pass begun
+  std::uint64_t pairs_done_ = 0, forces_done_ = 0;  // its epochs (signals_)
 
   /// Sums of the owner's shares of the sphere whose batched contacts are being added (the pair front).
   struct OwnerSum {

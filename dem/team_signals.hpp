@@ -43,8 +43,17 @@ class TeamSignals {
     slots_ = std::make_unique<Slot[]>(static_cast<std::size_t>(threads));
     size_ = threads;
   }
-  /// The next epoch to post and wait for (outside a parallel region, once per use).
+  /// Threads it has room for.
+  int size() const { return size_; }
+  /// The next epoch to post and wait for (outside a parallel region, or by one thread while the
+  /// others wait, once per use).
   std::uint64_t next_epoch() { return ++epoch_; }
+  /// The first of `count` consecutive fresh epochs (for a region that runs many steps).
+  std::uint64_t next_epochs(std::uint64_t count) {
+    const std::uint64_t first = epoch_ + 1;
+    epoch_ += count;
+    return first;
+  }
 
   /// Thread t has done this epoch's work that others wait for.
   void post(int t, std::uint64_t epoch) { slots_[t].value.store(epoch, std::memory_order_release); }
