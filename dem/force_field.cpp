@@ -299,7 +299,8 @@ void ForceField::begin_with(const Models<Rolling>& m, Particles& p, NeighborList
 template <class Rolling>
 void ForceField::pass_with(const Models<Rolling>& m, int threads, int thread, Particles& p, NeighborList& nl,
                            const std::vector<Wall>& walls, double dt, AfterForces* after) {
-  assert(threads == pass_team_ && thread < threads);
+  assert(thread < threads && static_cast<std::size_t>(threads) <= pass_stats_.size());
+  if (thread == 0) pass_team_ = threads;  // (a region may get fewer threads than begin() was told)
   const std::size_t n = p.size();
   const std::size_t entries = nl.entries();
   const std::uint64_t pairs_done = pairs_done_, forces_done = forces_done_;

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <exception>
 #include <limits>
 #include <numbers>
 #include <set>
@@ -572,8 +573,12 @@ void Simulation::move_spheres_with_bodies() {
   moved2_ = moved2;
 }
 
+bool Simulation::healthy() const {
+  return diag_.bad_slot < 0 && diag_.slot_overflow < 0 && diag_.max_overlap_ratio <= settings_.max_overlap_ratio;
+}
+
 void Simulation::check_health() {
-  if (diag_.bad_slot < 0 && diag_.slot_overflow < 0 && diag_.max_overlap_ratio <= settings_.max_overlap_ratio) return;
+  if (healthy()) return;
   // Error path only from here: building the message may allocate.
   auto where = [&](std::int64_t s) {
     std::ostringstream o;
@@ -648,10 +653,11 @@ void Simulation::check_health() {
 }
 
 
-void Simulation::drift(double dt) {
-  // Half kick, drift and free rotation of the bodies, then the spheres follow: one parallel region
-  // with two loops. The sphere loop runs over slots (cell order) and reads its body, which is cheaper
-  // than each body writing its spheres (slots scattered over the arrays; measured: docs/performance.md).
+double Simulation::drift_part(int team, int thread, double dt, std::uint64_t epoch) {
+  // Half kick, drift and free rotation of the bodies, then the spheres follow: two loops, each
+  // thread on the bodies and spheres it takes in the force loop (thread_bodies). The sphere loop runs
+  // over slots (cell order) and reads its body, which is cheaper than each body writing its spheres
+  // (slots scattered over the arrays; measured: docs/performance.md).
   Bodies& b = bodies_;
   Particles& p = particles_;
   const std::size_t n = p.size();
@@ -661,17 +667,12 @@ void Simulation::drift(double dt) {
   const std::size_t slack_n = neighbors_.slack2().size();
   // With the spheres indexed by body, a thread's bodies are those that start in its sphere range
   // (thread_bodies), so its spheres belong to its own bodies, but for the first few of those crossing
-  // from the ranges below. Each thread turns those crossing bodies first and posts; the thread above
-  // waits for the posts below before its sphere loop (dem/team_signals.hpp). Else (bodies added since
-  // the last build) the bodies are shared out equally and the sphere loop waits at a barrier.
+  // from the ranges below. Each thread turns those crossing bodies first and posts `epoch`; the
+  // thread above waits for the posts below before its sphere loop (dem/team_signals.hpp). Else
+  // (bodies added since the last build) the bodies are shared out equally and the sphere loop waits
+  // at a barrier.
   const bool by_range = b.indexed(n);
-  const int max_team = n >= parallel_min_items() ? omp_get_max_threads() : 1;
-  drift_signals_.reserve(max_team);
-  const std::uint64_t epoch = drift_signals_.next_epoch();
-#pragma omp parallel if(n >= parallel_min_items()) reduction(max : moved2)
   {
-    // Each thread the bodies and spheres it takes in the force loop (thread_bodies).
-    const int team = omp_get_num_threads(), thread = omp_get_thread_num();
     std::size_t body_first = 0, body_last = 0, sphere_first = 0, sphere_last = 0;
     thread_bodies(team, thread, body_first, body_last);
     forces_.thread_spheres(n, team, thread, sphere_first, sphere_last);
@@ -725,18 +726,16 @@ void Simulation::drift(double dt) {
     if (by_range) {
       const std::size_t crossing = first_crossing_body(team, thread, body_first, body_last, sphere_last);
       turn(crossing, body_last);
-      drift_signals_.post(thread, epoch);
+      step_signals_.post(thread, epoch);
       turn(body_first, crossing);
-      for (int below = 0; below < thread; ++below) drift_signals_.wait(below, epoch);
+      for (int below = 0; below < thread; ++below) step_signals_.wait(below, epoch);
     } else {
       turn(body_first, body_last);
 #pragma omp barrier
     }
     for (std::size_t s = sphere_first; s < sphere_last; ++s) moved2 = std::max(moved2, follow_body(p, b, s, slack, slack_n));
   }
-  moved2_ = moved2;
-  body_omega_lags_ = false;   // every body's omega made afresh above
-  sphere_state_lags_ = true;  // orientations (output only) are not copied here; velocities go stale at the kick
+  return moved2;
 }
 
 void Simulation::update_sphere_state() const {
@@ -757,19 +756,110 @@ void Simulation::update_sphere_state() const {
   sphere_state_lags_ = false;
 }
 
-void Simulation::step() {
+void Simulation::step() { run_steps(1); }
+
+void Simulation::run_steps(std::uint64_t n) {
+  if (n == 0) return;
   if (!ready_) setup();
-  drift(dt_);
+  for (std::uint64_t done = 0; done < n;) done += steps_in_region(n - done);
+}
+
+bool Simulation::stability_due() const {
+  return settings_.stability_interval > 0 && steps_ % settings_.stability_interval == 0;
+}
+
+std::uint64_t Simulation::steps_in_region(std::uint64_t most) {
+  // A step is
+  //   drift (each thread its bodies and spheres);
+  //   the time, the walls; a list build if the list is stale (or the adaptive skin asks for one);
+  //   the forces and the bodies' sums with the second half kick (each thread its spheres, its bodies);
+  //   the health check; every stability_interval steps the stability check.
+  // Steps run in one parallel region for as long as they need nothing but the threads' loops: the
+  // threads meet twice a step, after the drift and after the sums, where thread 0 does the step's
+  // serial part (TeamSignals::meet). A step that needs a list build, the adaptive skin's check, masks
+  // of the walls made again, the stability check or a blow-up report leaves the region and is
+  // finished outside it (finish_step). A libgomp region costs a fork and a join (futex calls, ~1 µs
+  // each on this project's VMs): 8-15 µs a region beyond the threads' work (docs/performance.md,
+  // "2026-12-05 (sixth session)"); a meet costs a line passed each way.
+  const std::size_t n = particles_.size();
+  const int max_team = n >= parallel_min_items() ? omp_get_max_threads() : 1;
+  step_signals_.reserve(max_team);
+  if (moved2_of_.size() < static_cast<std::size_t>(max_team)) moved2_of_.resize(max_team);
+  // Per step: the drift's crossing bodies, arrival and release after the drift, after the sums.
+  constexpr std::uint64_t kEpochs = 5;
+  const std::uint64_t base = step_signals_.next_epochs(kEpochs * most);
+  struct BodySums final : AfterForces {
+    Simulation& sim;
+    double half_kick;
+    BodySums(Simulation& s, double h) : sim(s), half_kick(h) {}
+    void run(const ForceTeam& team) override { sim.sum_bodies(team, half_kick); }
+  } sums(*this, 0.5 * dt_);
+  enum class Left { no, after_drift, after_forces, error };
+  Left left = Left::no;  // written by thread 0 in a meet, read by the others after it
+  std::uint64_t done = 0;
+  std::exception_ptr error;
+#pragma omp parallel if(max_team > 1) num_threads(max_team)
+  {
+    const int team = omp_get_num_threads(), thread = omp_get_thread_num();
+    for (std::uint64_t i = 0;; ++i) {
+      const std::uint64_t e = base + kEpochs * i;
+      moved2_of_[thread].value = drift_part(team, thread, dt_, e);
+      step_signals_.meet(team, thread, e + 1, e + 2, [&] {
+        try {
+          left = drifted(team) ? Left::no : Left::after_drift;
+        } catch (...) {  // (nothing there throws but an allocation: never let it end the process)
+          error = std::current_exception();
+          left = Left::error;
+        }
+      });
+      if (left != Left::no) break;
+      forces_.pass(team, thread, particles_, neighbors_, walls_, dt_, &sums);
+      step_signals_.meet(team, thread, e + 3, e + 4, [&] {
+        diag_ = forces_.finish(dt_);
+        body_omega_lags_ = true;  // the sums' half kick leaves omega to the next drift (compute_forces)
+        ++done;
+        if (!healthy() || stability_due() || done == most) left = Left::after_forces;
+      });
+      if (left != Left::no) break;
+    }
+  }
+  if (left == Left::error) std::rethrow_exception(error);
+  if (left == Left::after_drift) {
+    finish_step();
+    return done + 1;
+  }
+  check_health();  // throws when the step has blown up
+  if (stability_due()) check_stability();
+  return done;
+}
+
+bool Simulation::drifted(int team) {
+  // The serial part after the drift (thread 0, the team waiting): true if the step's forces may be
+  // computed in the region.
+  double moved2 = 0;
+  for (int t = 0; t < team; ++t) moved2 = std::max(moved2, moved2_of_[t].value);
+  moved2_ = moved2;
+  body_omega_lags_ = false;   // every body's omega made afresh by the drift
+  sphere_state_lags_ = true;  // orientations (output only) are not copied there; velocities go stale at the kick
   time_ += dt_;
   ++steps_;
   for (Wall& w : walls_) w.move_to(time_);
+  const bool skin_check = settings_.skin > 0 ? skin_ != settings_.skin : steps_ % AdaptiveSkin::kCheckEvery == 0;
+  if (neighbors_.stale(particles_, moved2_) || skin_check) return false;
+  if (!forces_.begins_in_team(particles_, neighbors_, walls_, team)) return false;
+  forces_.begin(particles_, neighbors_, walls_, team);
+  return true;
+}
+
+void Simulation::finish_step() {
+  // The rest of a step after its drift, outside a region: a list build if due, the forces and sums.
   if (neighbors_.stale(particles_, moved2_)) {
     rebuild(choose_skin());
   } else if (const double skin = early_rebuild_skin(); skin > 0) {
     rebuild(skin);
   }
-  compute_forces(0.5 * dt_);  // and the bodies' sums with the second half kick
-  if (settings_.stability_interval > 0 && steps_ % settings_.stability_interval == 0) check_stability();
+  compute_forces(0.5 * dt_);  // and the bodies' sums with the second half kick; the health check
+  if (stability_due()) check_stability();
 }
 
 const StepStability& Simulation::check_stability() {
@@ -778,9 +868,6 @@ const StepStability& Simulation::check_stability() {
   return stability_;
 }
 
-void Simulation::run_steps(std::uint64_t n) {
-  for (std::uint64_t s = 0; s < n; ++s) step();
-}
 
 Energy Simulation::energy() const {
   Energy e;

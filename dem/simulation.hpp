@@ -160,7 +160,16 @@ class Simulation {
                          const Vec3& omega, int shape);
   void check_step_for(int material, double radius) const;
   const MassProperties& mass_properties_of(const Shape& shape);
-  void drift(double dt);                   // half kick, drift, spheres follow
+  /// Thread `thread`'s part of the drift (half kick, drift, spheres follow), in a region of `team`;
+  /// returns the largest squared displacement among its spheres (as follow_body gives it).
+  double drift_part(int team, int thread, double dt, std::uint64_t epoch);
+  /// Up to `most` steps in one parallel region; returns how many were done (at least one).
+  std::uint64_t steps_in_region(std::uint64_t most);
+  /// After the drift, by one thread of a team of `team` (steps_in_region).
+  bool drifted(int team);
+  void finish_step();
+  bool healthy() const;
+  bool stability_due() const;
   void update_sphere_state() const;
   void update_body_omega() const;
   void move_spheres_with_bodies();
@@ -190,7 +199,11 @@ class Simulation {
   std::uint64_t steps_ = 0, next_sphere_id_ = 0;
   double moved2_ = 0;  // largest squared sphere displacement since the last neighbour build
   std::vector<std::uint32_t> body_fill_;  // scratch for index_spheres_by_body
-  TeamSignals drift_signals_;             // the drift's waits for the bodies that cross a cut (drift)
+  TeamSignals step_signals_;  // a step's waits: bodies that cross a cut (drift_part), the meets (steps_in_region)
+  struct alignas(64) ThreadValue {
+    double value = 0;
+  };
+  std::vector<ThreadValue> moved2_of_;  // each thread's largest displacement in the drift
   std::size_t body_slot_span_ = 0;        // the most slots between two spheres of one body (index_spheres_by_body)
   std::vector<std::uint32_t> body_order_, body_new_index_;  // scratch for renumber_bodies
   /// Mass properties of each distinct sphere set added so far (mass_properties_of).
