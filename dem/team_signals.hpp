@@ -25,6 +25,8 @@
 #include <memory>
 #include <thread>
 
+#include <omp.h>
+
 namespace grainscale::dem {
 
 class TeamSignals {
@@ -38,7 +40,10 @@ class TeamSignals {
   }
 
   /// Room for a team of `threads` (outside a parallel region). Keeps the posts of a team that fits.
+  /// A team larger than the processors this process may run on spins only briefly before it yields:
+  /// the thread waited for may be waiting for a core (the tests run 4 threads on 2).
   void reserve(int threads) {
+    spins_before_yield_ = threads > omp_get_num_procs() ? kSpinsOversubscribed : kSpinsBeforeYield;
     if (threads <= size_) return;
     slots_ = std::make_unique<Slot[]>(static_cast<std::size_t>(threads));
     size_ = threads;
@@ -79,7 +84,7 @@ class TeamSignals {
   /// thread waited for may need it.
   void wait(int t, std::uint64_t epoch) const {
     for (std::uint32_t spins = 0; slots_[t].value.load(std::memory_order_acquire) < epoch; ++spins) {
-      if (spins < kSpinsBeforeYield) {
+      if (spins < spins_before_yield_) {
 #if defined(__x86_64__) || defined(__i386__)
         __builtin_ia32_pause();
 #endif
@@ -91,11 +96,13 @@ class TeamSignals {
 
  private:
   static constexpr std::uint32_t kSpinsBeforeYield = 1u << 14;  // ~0.1-1 ms of pauses
+  static constexpr std::uint32_t kSpinsOversubscribed = 1u << 6;
   struct alignas(64) Slot {  // one line per thread: a post invalidates only its own
     std::atomic<std::uint64_t> value{0};
   };
   std::unique_ptr<Slot[]> slots_;
   int size_ = 0;
+  std::uint32_t spins_before_yield_ = kSpinsBeforeYield;
   std::uint64_t epoch_ = 0;
 };
 

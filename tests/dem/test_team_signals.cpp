@@ -53,3 +53,42 @@ TEST_CASE("A wait for an epoch already posted, or passed, returns at once", "[de
   copy.reserve(2);
   CHECK(copy.next_epoch() > second);
 }
+
+TEST_CASE("A meet: thread 0's serial part sees every thread's work, and every thread sees its result",
+          "[dem][threads][signals]") {
+  // The steps' region meets twice a step (Simulation::steps_in_region): each thread writes its part
+  // (its largest displacement), thread 0 combines them and decides, the others read the decision.
+  const int threads = GENERATE(1, 2, 4);
+  constexpr int kRounds = 2000;
+  TeamSignals signals;
+  signals.reserve(threads);
+  const std::uint64_t base = signals.next_epochs(2 * kRounds);
+  CHECK(signals.next_epoch() == base + 2 * kRounds);  // the epochs taken are not given again
+  std::vector<std::uint64_t> part(threads, 0);
+  std::uint64_t total = 0;  // written by thread 0 in the serial part
+  std::vector<int> wrong_total(threads, 0), wrong_parts(threads, 0);
+#pragma omp parallel num_threads(threads)
+  {
+    const int team = omp_get_num_threads(), t = omp_get_thread_num();
+    for (int r = 0; r < kRounds; ++r) {
+      const std::uint64_t e = base + 2 * r;
+      part[t] = static_cast<std::uint64_t>(r) * 100 + t;
+      signals.meet(team, t, e, e + 1, [&] {
+        std::uint64_t sum = 0;
+        for (int u = 0; u < team; ++u) {
+          wrong_parts[0] += part[u] != static_cast<std::uint64_t>(r) * 100 + u;
+          sum += part[u];
+        }
+        total = sum;
+      });
+      const std::uint64_t expected = static_cast<std::uint64_t>(r) * 100 * team + team * (team - 1) / 2;
+      wrong_total[t] += total != expected;
+      // (Thread 0 writes `total` again only after every thread has arrived at the next meet, so
+      // after each has read this one.)
+    }
+  }
+  for (int t = 0; t < threads; ++t) {
+    CHECK(wrong_total[t] == 0);
+    CHECK(wrong_parts[t] == 0);
+  }
+}
