@@ -1,6 +1,7 @@
 #include "dem/dem_run.hpp"
 #include "dem/scaling.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -182,6 +183,23 @@ void DemRun::write_checkpoint_now() {
   if (on_checkpoint_) on_checkpoint_(path);
 }
 
+std::uint64_t DemRun::steps_to_next_check(const Simulation& sim, std::uint64_t total_steps) const {
+  // The loop's checks fall on multiples of 64 steps (progress, checkpoint), of 100 (settled?), of the
+  // stability interval (the warning reads the last check), and at the step whose time reaches the
+  // next snapshot's (within half a step): never step past one of them.
+  const std::uint64_t s = sim.steps();
+  std::uint64_t go = std::min<std::uint64_t>(total_steps - s, 64 - (s & 63));
+  if (scenario_.settle_kinetic_energy > 0) go = std::min<std::uint64_t>(go, 100 - s % 100);
+  if (const int every = sim.settings().stability_interval; every > 0) {
+    go = std::min<std::uint64_t>(go, static_cast<std::uint64_t>(every) - s % static_cast<std::uint64_t>(every));
+  }
+  // After j more steps the time is time + j dt (to round-off far below the half step): the snapshot
+  // is due at the first j >= x.
+  const double x = (next_snapshot_ - 0.5 * sim.dt() - sim.time()) / sim.dt();
+  if (x < static_cast<double>(go)) go = x <= 1 ? 1 : static_cast<std::uint64_t>(std::floor(x));
+  return std::max<std::uint64_t>(go, 1);
+}
+
 void DemRun::run() {
   Simulation& sim = *run_.sim;
   started_ = std::chrono::steady_clock::now();
@@ -199,7 +217,9 @@ void DemRun::run() {
         write_snapshot_now();
         next_snapshot_ += interval;
       }
-      run_.advance();
+      // As many steps in one go as leave every check below where it was: each comes at the end of a
+      // go (Simulation::run_steps keeps its threads in one parallel region for the steps of a go).
+      run_.advance(steps_to_next_check(sim, total_steps));
       if ((sim.steps() & 63) == 0) progress.update(sim.time(), sim.steps(), sim.particles().size());
       if (sim.stability().margin > 1 && !warned_stability_) {
         // Warn once: the run goes on (a transient squeeze may pass) but the user should know why it may

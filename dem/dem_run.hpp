@@ -41,6 +41,8 @@ class DemRun {
   std::string checkpoint_path() const;
 
  private:
+  /// Steps the run loop may take in one go before its next check (at least 1).
+  std::uint64_t steps_to_next_check(const Simulation& sim, std::uint64_t total_steps) const;
   void log(const std::string& line);
   void write_snapshot_now();
   void write_checkpoint_now();
