@@ -10,6 +10,7 @@
 #include <catch2/catch.hpp>
 #include <filesystem>
 #include <fstream>
+#include <regex>
 #include <string>
 #include <vector>
 
@@ -260,4 +261,42 @@ TEST_CASE("A failed write ends the run with an error naming the path; earlier ou
   REQUIRE_FALSE(kept.empty());
   for (const auto& e : fs::recursive_directory_iterator(out)) CHECK(e.path().extension() != ".tmp");
   CHECK(read_snapshot(out + "/snapshots/snap_000000.h5").time == 0);
+}
+
+TEST_CASE("Once the pours are done, a run steps in goes that end at every check it makes",
+          "[dem][resume]") {
+  // DemRun steps as many steps at a time as leave its checks where one step at a time had them
+  // (Simulation::run_steps keeps its threads in one region for a go): a checkpoint every 64 steps,
+  // and each snapshot at the first step within half a step of its time.
+  const testing::CheckpointTempDir dir;
+  std::string text = testing::checkpoint_scenario(0.045, kOften);
+  const std::size_t pour = text.find("  - {material: grain, diameter: 0.0032");  // no pour: goes from t = 0
+  REQUIRE(pour != std::string::npos);
+  text.erase(pour, text.find("output:") - pour);
+  std::ofstream(dir / "materials.yaml") << testing::kCheckpointMaterials;
+  std::ofstream(dir / "goes.yaml") << text;
+  DemRun r(dir / "goes.yaml", dir / "goes");
+  std::vector<std::uint64_t> checkpoint_steps;
+  r.on_checkpoint([&](const std::string& path) { checkpoint_steps.push_back(read_checkpoint_info(path).step); });
+  r.setup();
+  r.run();
+  r.output();
+  const double dt = r.simulation().dt(), interval = 0.01;
+  const std::uint64_t steps = r.simulation().steps();
+  REQUIRE(steps > 1000);
+  REQUIRE(checkpoint_steps.size() == steps / 64 + 1);  // and the one at the end
+  for (std::size_t k = 0; k + 1 < checkpoint_steps.size(); ++k) CHECK(checkpoint_steps[k] == 64 * (k + 1));
+  CHECK(checkpoint_steps.back() == steps);
+  const std::string xmf = testing::slurp_file(dir / "goes/snapshots.xmf");
+  const std::regex time("<Time Value=\"([^\"]+)\"");
+  std::vector<double> times;  // (the particles' and the walls' grids of a snapshot carry its time)
+  for (auto m = std::sregex_iterator(xmf.begin(), xmf.end(), time); m != std::sregex_iterator(); ++m) {
+    if (times.empty() || std::stod((*m)[1]) != times.back()) times.push_back(std::stod((*m)[1]));
+  }
+  REQUIRE(times.size() == 6);  // 0, 0.01, ..., 0.04 and the end
+  for (int k = 0; k < 5; ++k) {
+    INFO("snapshot " << k << " at t = " << times[k] << " s, dt = " << dt << " s");
+    CHECK(times[k] >= k * interval - 0.5 * dt);
+    CHECK(times[k] < k * interval + 0.5 * dt);
+  }
 }
