@@ -361,10 +361,15 @@ double Simulation::choose_skin() const {
   return std::isfinite(v2_max) ? AdaptiveSkin::choose(std::sqrt(v2_max), dt_, skin_max) : skin_max;
 }
 
+bool Simulation::skin_check_due() const {
+  // A fixed skin other than the list's (a state restored under a scenario with another time.skin),
+  // or the adaptive skin's regular check.
+  return settings_.skin > 0 ? skin_ != settings_.skin : steps_ % AdaptiveSkin::kCheckEvery == 0;
+}
+
 double Simulation::early_rebuild_skin() const {
-  // A fixed skin other than the list's: a state restored under a scenario with another time.skin.
-  if (settings_.skin > 0) return skin_ != settings_.skin ? settings_.skin : 0;
-  if (steps_ % AdaptiveSkin::kCheckEvery != 0) return 0;
+  if (!skin_check_due()) return 0;
+  if (settings_.skin > 0) return settings_.skin;
   const double chosen = choose_skin();
   return AdaptiveSkin::shrink(skin_, chosen) ? chosen : 0;
 }
@@ -533,12 +538,7 @@ void Simulation::sum_bodies(const ForceTeam& team, double half_kick) {
 
 void Simulation::compute_forces(double half_kick) {
   // The forces, then the bodies' sums in the same parallel region (ForceField::compute's follow-up).
-  struct BodySums final : AfterForces {
-    Simulation& sim;
-    double half_kick;
-    BodySums(Simulation& s, double h) : sim(s), half_kick(h) {}
-    void run(const ForceTeam& team) override { sim.sum_bodies(team, half_kick); }
-  } sums(*this, half_kick);
+  BodySums sums(*this, half_kick);
   diag_ = forces_.compute(particles_, neighbors_, walls_, dt_, &sums);
   // omega = omega(q, L) is not made here: the next drift makes it afresh from L after its half kick,
   // and nothing in between reads it, so it is made only for a reader (update_body_omega). A clump's
@@ -672,69 +672,67 @@ double Simulation::drift_part(int team, int thread, double dt, std::uint64_t epo
   // (bodies added since the last build) the bodies are shared out equally and the sphere loop waits
   // at a barrier.
   const bool by_range = b.indexed(n);
-  {
-    std::size_t body_first = 0, body_last = 0, sphere_first = 0, sphere_last = 0;
-    thread_bodies(team, thread, body_first, body_last);
-    forces_.thread_spheres(n, team, thread, sphere_first, sphere_last);
-    // The first spheres of this range, which the thread below read as partners in its force loop
-    // (slots [sphere_first, reach_before(sphere_first))): their lines, written in the sphere loop
-    // below, are requested for writing a line per body in the body loop (dem/boundary_lines.hpp).
-    BoundaryLines<3> boundary;
-    if (thread > 0 && sphere_first < sphere_last && neighbors_.starts().size() == n + 1) {
-      // (reach_before(s) is below s when no pair reaches across s.)
-      const std::size_t end = std::clamp<std::size_t>(neighbors_.reach_before(sphere_first), sphere_first, sphere_last);
-      boundary = BoundaryLines<3>({&p.x[sphere_first], &p.v[sphere_first], &p.omega[sphere_first]},
-                                  (end - sphere_first) * sizeof(Vec3));
-    }
-    // Bodies in chunks: the anisotropic ones' rotations are evaluated together, vectorised
-    // (dem/rotation_batch.hpp; the same numbers as one body at a time).
-    RotationBatch batch;
-    auto rotate_alone = [&](std::size_t k) {  // bodies the batch's series cannot turn
-      free_rotation_step(b.q[k], b.L[k], b.inertia[k], dt);
-      b.omega[k] = body_angular_velocity(b.q[k], b.L[k], b.inertia[k]);
-    };
-    auto turn = [&](std::size_t from, std::size_t to) {  // bodies [from, to)
-      for (std::size_t first = from; first < to; first += RotationBatch::kCapacity) {
-        const std::size_t last = std::min(to, first + RotationBatch::kCapacity);
-        batch.size = 0;
-        for (std::size_t k = first; k < last; ++k) {
-          boundary.fetch_next_for_write();
-          b.v[k] += (half * b.inv_mass[k]) * b.force[k];
-          b.L[k] += half * b.torque[k];
-          b.x[k] += dt * b.v[k];
-          const Vec3& inertia = b.inertia[k];
-          if (inertia.x == inertia.y && inertia.y == inertia.z) {  // a sphere: one exact rotation
-            const Vec3 w = (1.0 / inertia.x) * b.L[k];
-            free_rotation_isotropic(b.q[k], w, dt);
-            b.omega[k] = w;
-          } else {
-            batch.add(static_cast<std::uint32_t>(k), b.q[k], b.L[k], inertia);
-          }
-        }
-        batch.rotate(dt);
-        for (int c = 0; c < batch.size; ++c) {
-          const std::uint32_t k = batch.body[c];
-          if (batch.in_range[c]) {
-            b.q[k] = {batch.qw[c], batch.qx[c], batch.qy[c], batch.qz[c]};
-            b.omega[k] = {batch.wx[c], batch.wy[c], batch.wz[c]};
-          } else {  // turned too far in one step for the series: the general path, from the old q
-            rotate_alone(k);
-          }
+  std::size_t body_first = 0, body_last = 0, sphere_first = 0, sphere_last = 0;
+  thread_bodies(team, thread, body_first, body_last);
+  forces_.thread_spheres(n, team, thread, sphere_first, sphere_last);
+  // The first spheres of this range, which the thread below read as partners in its force loop
+  // (slots [sphere_first, reach_before(sphere_first))): their lines, written in the sphere loop
+  // below, are requested for writing a line per body in the body loop (dem/boundary_lines.hpp).
+  BoundaryLines<3> boundary;
+  if (thread > 0 && sphere_first < sphere_last && neighbors_.starts().size() == n + 1) {
+    // (reach_before(s) is below s when no pair reaches across s.)
+    const std::size_t end = std::clamp<std::size_t>(neighbors_.reach_before(sphere_first), sphere_first, sphere_last);
+    boundary = BoundaryLines<3>({&p.x[sphere_first], &p.v[sphere_first], &p.omega[sphere_first]},
+                                (end - sphere_first) * sizeof(Vec3));
+  }
+  // Bodies in chunks: the anisotropic ones' rotations are evaluated together, vectorised
+  // (dem/rotation_batch.hpp; the same numbers as one body at a time).
+  RotationBatch batch;
+  auto rotate_alone = [&](std::size_t k) {  // bodies the batch's series cannot turn
+    free_rotation_step(b.q[k], b.L[k], b.inertia[k], dt);
+    b.omega[k] = body_angular_velocity(b.q[k], b.L[k], b.inertia[k]);
+  };
+  auto turn = [&](std::size_t from, std::size_t to) {  // bodies [from, to)
+    for (std::size_t first = from; first < to; first += RotationBatch::kCapacity) {
+      const std::size_t last = std::min(to, first + RotationBatch::kCapacity);
+      batch.size = 0;
+      for (std::size_t k = first; k < last; ++k) {
+        boundary.fetch_next_for_write();
+        b.v[k] += (half * b.inv_mass[k]) * b.force[k];
+        b.L[k] += half * b.torque[k];
+        b.x[k] += dt * b.v[k];
+        const Vec3& inertia = b.inertia[k];
+        if (inertia.x == inertia.y && inertia.y == inertia.z) {  // a sphere: one exact rotation
+          const Vec3 w = (1.0 / inertia.x) * b.L[k];
+          free_rotation_isotropic(b.q[k], w, dt);
+          b.omega[k] = w;
+        } else {
+          batch.add(static_cast<std::uint32_t>(k), b.q[k], b.L[k], inertia);
         }
       }
-    };
-    if (by_range) {
-      const std::size_t crossing = first_crossing_body(team, thread, body_first, body_last, sphere_last);
-      turn(crossing, body_last);
-      step_signals_.post(thread, epoch);
-      turn(body_first, crossing);
-      for (int below = 0; below < thread; ++below) step_signals_.wait(below, epoch);
-    } else {
-      turn(body_first, body_last);
-#pragma omp barrier
+      batch.rotate(dt);
+      for (int c = 0; c < batch.size; ++c) {
+        const std::uint32_t k = batch.body[c];
+        if (batch.in_range[c]) {
+          b.q[k] = {batch.qw[c], batch.qx[c], batch.qy[c], batch.qz[c]};
+          b.omega[k] = {batch.wx[c], batch.wy[c], batch.wz[c]};
+        } else {  // turned too far in one step for the series: the general path, from the old q
+          rotate_alone(k);
+        }
+      }
     }
-    for (std::size_t s = sphere_first; s < sphere_last; ++s) moved2 = std::max(moved2, follow_body(p, b, s, slack, slack_n));
+  };
+  if (by_range) {
+    const std::size_t crossing = first_crossing_body(team, thread, body_first, body_last, sphere_last);
+    turn(crossing, body_last);
+    step_signals_.post(thread, epoch);
+    turn(body_first, crossing);
+    for (int below = 0; below < thread; ++below) step_signals_.wait(below, epoch);
+  } else {
+    turn(body_first, body_last);
+#pragma omp barrier
   }
+  for (std::size_t s = sphere_first; s < sphere_last; ++s) moved2 = std::max(moved2, follow_body(p, b, s, slack, slack_n));
   return moved2;
 }
 
@@ -788,12 +786,7 @@ std::uint64_t Simulation::steps_in_region(std::uint64_t most) {
   // Per step: the drift's crossing bodies, arrival and release after the drift, after the sums.
   constexpr std::uint64_t kEpochs = 5;
   const std::uint64_t base = step_signals_.next_epochs(kEpochs * most);
-  struct BodySums final : AfterForces {
-    Simulation& sim;
-    double half_kick;
-    BodySums(Simulation& s, double h) : sim(s), half_kick(h) {}
-    void run(const ForceTeam& team) override { sim.sum_bodies(team, half_kick); }
-  } sums(*this, 0.5 * dt_);
+  BodySums sums(*this, 0.5 * dt_);
   enum class Left { no, after_drift, after_forces, error };
   Left left = Left::no;  // written by thread 0 in a meet, read by the others after it
   std::uint64_t done = 0;
@@ -807,7 +800,7 @@ std::uint64_t Simulation::steps_in_region(std::uint64_t most) {
       step_signals_.meet(team, thread, e + 1, e + 2, [&] {
         try {
           left = drifted(team) ? Left::no : Left::after_drift;
-        } catch (...) {  // (nothing there throws but an allocation: never let it end the process)
+        } catch (...) {  // (nothing there should throw; if it does, it must not end the process)
           error = std::current_exception();
           left = Left::error;
         }
@@ -844,8 +837,7 @@ bool Simulation::drifted(int team) {
   time_ += dt_;
   ++steps_;
   for (Wall& w : walls_) w.move_to(time_);
-  const bool skin_check = settings_.skin > 0 ? skin_ != settings_.skin : steps_ % AdaptiveSkin::kCheckEvery == 0;
-  if (neighbors_.stale(particles_, moved2_) || skin_check) return false;
+  if (neighbors_.stale(particles_, moved2_) || skin_check_due()) return false;
   if (!forces_.begins_in_team(particles_, neighbors_, walls_, team)) return false;
   forces_.begin(particles_, neighbors_, walls_, team);
   return true;

@@ -153,6 +153,7 @@ class Simulation {
   void rebuild(double skin);
   double choose_skin() const;
   double early_rebuild_skin() const;  // the skin of a build due before the list is stale; 0: none
+  bool skin_check_due() const;        // whether early_rebuild_skin may find one this step
   /// Forces, then the bodies' sums (with a half kick if > 0) in the same region; then the health check.
   void compute_forces(double half_kick);
   void check_health();
@@ -177,6 +178,13 @@ class Simulation {
   void renumber_bodies();
   /// Thread team.thread()'s share of the bodies' sums (in the force loop's region: compute_forces).
   void sum_bodies(const ForceTeam& team, double half_kick);
+  /// The bodies' sums as the force loop's follow-up (ForceField::compute, ForceField::pass).
+  struct BodySums final : AfterForces {
+    Simulation& sim;
+    double half_kick;
+    BodySums(Simulation& s, double h) : sim(s), half_kick(h) {}
+    void run(const ForceTeam& team) override { sim.sum_bodies(team, half_kick); }
+  };
   /// The bodies [first, last) thread t of a team of `team` takes in the per-body loops: those whose
   /// first sphere lies in the spheres it takes in the force loop (ForceField::thread_spheres).
   void thread_bodies(int team, int t, std::size_t& first, std::size_t& last) const;

@@ -18,6 +18,10 @@
 // on wait order the data written before the post before the reads after the wait.
 //
 // Only the timing changes: every sum has the same terms in the same order as with barriers.
+//
+// A meet (meet()) is the one place where every thread needs every other: twice a step, where thread 0
+// does the step's serial part (Simulation::steps_in_region). It replaces the join of one parallel
+// region and the fork of the next, so that the threads stay in one region for many steps.
 
 #include <algorithm>
 #include <atomic>
