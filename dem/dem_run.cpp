@@ -22,6 +22,11 @@ namespace fs = std::filesystem;
 
 namespace {
 
+// The run loop's checks: progress and checkpoint (the clock is read) every kCheckEvery steps, the
+// settled test every kSettleEvery steps. The loop steps in goes that end at each (steps_to_next_check).
+constexpr std::uint64_t kCheckEvery = 64;
+constexpr std::uint64_t kSettleEvery = 100;
+
 std::string seconds(double t) {
   std::ostringstream o;
   o << t;
@@ -184,12 +189,12 @@ void DemRun::write_checkpoint_now() {
 }
 
 std::uint64_t DemRun::steps_to_next_check(const Simulation& sim, std::uint64_t total_steps) const {
-  // The loop's checks fall on multiples of 64 steps (progress, checkpoint), of 100 (settled?), of the
+  // The loop's checks fall on multiples of kCheckEvery (progress, checkpoint), of kSettleEvery, of the
   // stability interval (the warning reads the last check), and at the step whose time reaches the
   // next snapshot's (within half a step): never step past one of them.
   const std::uint64_t s = sim.steps();
-  std::uint64_t go = std::min<std::uint64_t>(total_steps - s, 64 - (s & 63));
-  if (scenario_.settle_kinetic_energy > 0) go = std::min<std::uint64_t>(go, 100 - s % 100);
+  std::uint64_t go = std::min<std::uint64_t>(total_steps - s, kCheckEvery - s % kCheckEvery);
+  if (scenario_.settle_kinetic_energy > 0) go = std::min<std::uint64_t>(go, kSettleEvery - s % kSettleEvery);
   if (const int every = sim.settings().stability_interval; every > 0) {
     go = std::min<std::uint64_t>(go, static_cast<std::uint64_t>(every) - s % static_cast<std::uint64_t>(every));
   }
@@ -220,7 +225,7 @@ void DemRun::run() {
       // As many steps in one go as leave every check below where it was: each comes at the end of a
       // go (Simulation::run_steps keeps its threads in one parallel region for the steps of a go).
       run_.advance(steps_to_next_check(sim, total_steps));
-      if ((sim.steps() & 63) == 0) progress.update(sim.time(), sim.steps(), sim.particles().size());
+      if (sim.steps() % kCheckEvery == 0) progress.update(sim.time(), sim.steps(), sim.particles().size());
       if (sim.stability().margin > 1 && !warned_stability_) {
         // Warn once: the run goes on (a transient squeeze may pass) but the user should know why it may
         // blow up or why a light particle was shot out.
@@ -230,7 +235,7 @@ void DemRun::run() {
             std::to_string(sim.dt() / sim.stability().margin) + " s (now " + std::to_string(sim.dt()) + " s).");
       }
       // Settled: every pour done and the kinetic energy below the scenario's threshold.
-      if (scenario_.settle_kinetic_energy > 0 && (sim.steps() % 100) == 0 && !run_.pouring()) {
+      if (scenario_.settle_kinetic_energy > 0 && sim.steps() % kSettleEvery == 0 && !run_.pouring()) {
         const Energy e = sim.energy();
         if (e.kinetic_translation + e.kinetic_rotation < scenario_.settle_kinetic_energy) {
           std::ostringstream m;
@@ -243,7 +248,7 @@ void DemRun::run() {
       }
       // Checkpoint at the end of a step's work, so that a resumed run enters the loop where this one
       // would have gone on. The clock is read every 64 steps only.
-      if ((sim.steps() & 63) == 0 &&
+      if (sim.steps() % kCheckEvery == 0 &&
           std::chrono::duration<double>(std::chrono::steady_clock::now() - last_checkpoint).count() >=
               scenario_.checkpoint_interval) {
         write_checkpoint_now();

@@ -246,9 +246,8 @@ void ForceField::flush_pairs(PairBatch<Rolling>& b, double dt, Particles& p, Nei
 }
 
 template <class Rolling>
-void ForceField::begin_with(const Models<Rolling>& m, Particles& p, NeighborList& nl, const std::vector<Wall>& walls,
-                            int team) {
-  (void)m;
+void ForceField::begin_with(const Models<Rolling>& /*the rolling model's type only*/, Particles& p, NeighborList& nl,
+                            const std::vector<Wall>& walls, int team) {
   const std::size_t n = p.size();
   const std::size_t entries = nl.entries();
   partner_share_.resize(entries);
@@ -293,7 +292,6 @@ void ForceField::begin_with(const Models<Rolling>& m, Particles& p, NeighborList
   signals_.reserve(team);
   if (pass_stats_.size() < static_cast<std::size_t>(team)) pass_stats_.resize(team);
   pairs_done_ = signals_.next_epoch(), forces_done_ = signals_.next_epoch();
-  pass_team_ = team;
 }
 
 template <class Rolling>

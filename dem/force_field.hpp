@@ -191,7 +191,7 @@ class ForceField {
     std::int64_t bad = std::numeric_limits<std::int64_t>::max(), overflow = std::numeric_limits<std::int64_t>::max();
   };
   std::vector<PassStats> pass_stats_;
-  int pass_team_ = 1;                                // the team of the pass begun
+  int pass_team_ = 1;                                // the team of the last pass (set by its thread 0)
   std::uint64_t pairs_done_ = 0, forces_done_ = 0;  // its epochs (signals_)
 
   /// Sums of the owner's shares of the sphere whose batched contacts are being added (the pair front).

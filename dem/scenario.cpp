@@ -337,14 +337,13 @@ BuiltScenario build(const Scenario& s, bool place_particles) {
   return out;
 }
 
-std::uint64_t BuiltScenario::advance(std::uint64_t most) {
+void BuiltScenario::advance(std::uint64_t steps) {
   if (!pouring()) {  // (a pour done inserts nothing more: its update would only look at the clock)
-    sim->run_steps(most);
-    return most;
+    sim->run_steps(steps);
+    return;
   }
   for (Pour& p : pours) p.update(*sim, rng);
   sim->step();
-  return 1;
 }
 
 bool BuiltScenario::pouring() const {

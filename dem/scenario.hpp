@@ -64,9 +64,9 @@ struct BuiltScenario {
   Random rng{1};
   std::vector<std::string> report;  // one line per batch placed at t = 0 (count, mass, density)
 
-  /// One step, with the pours inserting what is due first; once every pour is done, up to `most`
-  /// steps in one go (Simulation::run_steps). Returns the steps taken.
-  std::uint64_t advance(std::uint64_t most = 1);
+  /// One step, with the pours inserting what is due first; once every pour is done, `steps` steps
+  /// in one go (Simulation::run_steps).
+  void advance(std::uint64_t steps = 1);
   bool pouring() const;
   /// Lines describing each pour so far (placed count, mass, times the region was full).
   std::vector<std::string> pour_report() const;

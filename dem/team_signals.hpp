@@ -100,7 +100,7 @@ class TeamSignals {
 
  private:
   static constexpr std::uint32_t kSpinsBeforeYield = 1u << 14;  // ~0.1-1 ms of pauses
-  static constexpr std::uint32_t kSpinsOversubscribed = 1u << 6;
+  static constexpr std::uint32_t kSpinsOversubscribed = 1u << 6;  // more threads than processors
   struct alignas(64) Slot {  // one line per thread: a post invalidates only its own
     std::atomic<std::uint64_t> value{0};
   };
