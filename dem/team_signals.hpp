@@ -48,7 +48,8 @@ class TeamSignals {
   /// the thread waited for may be waiting for a core (the tests run 4 threads on 2). The processors
   /// are counted when the team size changes, not on every call: omp_get_num_procs() asks the kernel
   /// for the process's affinity (a sched_getaffinity system call, ~3 µs on this project's VMs), and
-  /// the force loop reserves every step (perf: 0.8 % of the clump bed's step on 1 thread, serial on 2).
+  /// the force loop reserves every step (in-process A/B on the clump bed: the step 2 % faster on 2
+  /// threads and 2.5 % on 1 without it; docs/performance.md, "2026-12-05 (eighth session)").
   void reserve(int threads) {
     if (threads != counted_for_) {
       spins_before_yield_ = threads > omp_get_num_procs() ? kSpinsOversubscribed : kSpinsBeforeYield;
@@ -60,6 +61,10 @@ class TeamSignals {
   }
   /// Threads it has room for.
   int size() const { return size_; }
+  /// How many pauses a wait spins before it yields the core (as chosen by the last reserve()).
+  std::uint32_t spins_before_yield() const { return spins_before_yield_; }
+  static constexpr std::uint32_t kSpinsBeforeYield = 1u << 14;    // ~0.1-1 ms of pauses
+  static constexpr std::uint32_t kSpinsOversubscribed = 1u << 6;  // more threads than processors
   /// The next epoch to post and wait for (outside a parallel region, or by one thread while the
   /// others wait, once per use).
   std::uint64_t next_epoch() { return ++epoch_; }
@@ -105,8 +110,6 @@ class TeamSignals {
   }
 
  private:
-  static constexpr std::uint32_t kSpinsBeforeYield = 1u << 14;  // ~0.1-1 ms of pauses
-  static constexpr std::uint32_t kSpinsOversubscribed = 1u << 6;  // more threads than processors
   struct alignas(64) Slot {  // one line per thread: a post invalidates only its own
     std::atomic<std::uint64_t> value{0};
   };

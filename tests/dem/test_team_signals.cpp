@@ -92,3 +92,21 @@ TEST_CASE("A meet: thread 0's serial part sees every thread's work, and every th
     CHECK(wrong_parts[t] == 0);
   }
 }
+
+TEST_CASE("A team larger than the processors spins briefly, whatever size was reserved before",
+          "[dem][threads][signals]") {
+  // reserve() counts the processors only when the team size changes (the count is a system call and
+  // the force loop reserves every step), so a change of size must still choose afresh.
+  const int procs = omp_get_num_procs();
+  TeamSignals signals;
+  signals.reserve(procs + 1);
+  CHECK(signals.spins_before_yield() == TeamSignals::kSpinsOversubscribed);
+  signals.reserve(procs + 1);  // the same size again: the same choice
+  CHECK(signals.spins_before_yield() == TeamSignals::kSpinsOversubscribed);
+  signals.reserve(1);
+  CHECK(signals.spins_before_yield() == TeamSignals::kSpinsBeforeYield);
+  signals.reserve(procs);  // as many threads as processors: not oversubscribed
+  CHECK(signals.spins_before_yield() == TeamSignals::kSpinsBeforeYield);
+  signals.reserve(procs + 2);
+  CHECK(signals.spins_before_yield() == TeamSignals::kSpinsOversubscribed);
+}
