@@ -35,6 +35,10 @@ namespace grainscale::dem {
 
 class TeamSignals {
  public:
+  /// Pauses a wait spins before it yields the core (see reserve()).
+  static constexpr std::uint32_t kSpinsBeforeYield = 1u << 14;    // ~0.1-1 ms of pauses
+  static constexpr std::uint32_t kSpinsOversubscribed = 1u << 6;  // more threads than processors
+
   TeamSignals() = default;
   // Posts are the state of one region only: a copy (of a simulation) starts with none.
   TeamSignals(const TeamSignals& o) : epoch_(o.epoch_) {}
@@ -63,8 +67,6 @@ class TeamSignals {
   int size() const { return size_; }
   /// How many pauses a wait spins before it yields the core (as chosen by the last reserve()).
   std::uint32_t spins_before_yield() const { return spins_before_yield_; }
-  static constexpr std::uint32_t kSpinsBeforeYield = 1u << 14;    // ~0.1-1 ms of pauses
-  static constexpr std::uint32_t kSpinsOversubscribed = 1u << 6;  // more threads than processors
   /// The next epoch to post and wait for (outside a parallel region, or by one thread while the
   /// others wait, once per use).
   std::uint64_t next_epoch() { return ++epoch_; }
