@@ -30,7 +30,7 @@ constexpr std::size_t kPrefetchEntries = 24;
 // A hardware prefetcher follows a stream only within a 4 KiB page and the pass walks some twenty
 // streams, so each stream's first lines of every page were missed. In-process A/B on the settled 10^5
 // bed, 1 thread, 1,000 steps, both orders: +3.8 % (six runs, +1.6 to +5.4 %); 4 blocks ahead level,
-// 12 and 16 +2-3 %; the partner shares and near-wall masks prefetched too, no better.
+// 12 and 16 +2-3 %; the partner shares and near-wall masks as well, ~1.5 % worse than without.
 constexpr std::size_t kPrefetchBlocks = 8;
 
 /// A prefetch of every 64-byte line of [from, to); `for_write` when the lines will be written.
