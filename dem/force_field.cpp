@@ -27,11 +27,19 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr std::size_t kPrefetchEntries = 24;
 // ... and, at the start of each block, every line of the block kPrefetchBlocks ahead in the arrays it
 // walks in order (the spheres' state and sums, its entries and their histories, its reverse range).
-// A hardware prefetcher follows a stream only within a 4 KiB page and the pass walks some twenty
-// streams, so each stream's first lines of every page were missed. In-process A/B on the settled 10^5
+// A hardware prefetcher follows a stream only within a 4 KiB page and the pass walks some 25
+// streams, so each stream likely pays its first lines of every page at full latency (this project's
+// VMs have no counters to show it; a microbenchmark pays 3 ns a line over 8 streams, 6-9 over
+// 28-40: docs/performance.md, "ninth session"). In-process A/B on the settled 10^5
 // bed, 1 thread, 1,000 steps, both orders: +3.8 % (six runs, +1.6 to +5.4 %); 4 blocks ahead level,
 // 12 and 16 +2-3 %; the partner shares and near-wall masks as well, ~1.5 % worse than without.
 constexpr std::size_t kPrefetchBlocks = 8;
+
+constexpr std::size_t kPassBlock = 64;  // spheres per block (a thread takes a range of blocks: dem/work_split.hpp)
+// What a block costs the force loop, per sphere, per list entry it owns and per sphere near a wall
+// (perf, the 10^3 bed, 1 thread: ~4 ns a sphere, ~20 ns an entry, ~25 ns a sphere with a wall in
+// reach); the split's feedback corrects what this estimate misses.
+constexpr double kSphereCost = 1, kEntryCost = 5, kWallSphereCost = 6;
 
 /// A prefetch of every 64-byte line of [from, to); `for_write` when the lines will be written.
 template <class T>
@@ -44,11 +52,6 @@ inline void prefetch_lines(const T* from, const T* to, bool for_write = false) {
     for (; line < end; line += 64) __builtin_prefetch(line, 0);
   }
 }
-constexpr std::size_t kPassBlock = 64;  // spheres per block (a thread takes a range of blocks: dem/work_split.hpp)
-// What a block costs the force loop, per sphere, per list entry it owns and per sphere near a wall
-// (perf, the 10^3 bed, 1 thread: ~4 ns a sphere, ~20 ns an entry, ~25 ns a sphere with a wall in
-// reach); the split's feedback corrects what this estimate misses.
-constexpr double kSphereCost = 1, kEntryCost = 5, kWallSphereCost = 6;
 
 /// Contact and rolling parameters for every material pair that is defined.
 template <class Rolling, class MakeRolling>
