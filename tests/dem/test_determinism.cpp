@@ -18,7 +18,9 @@ namespace {
 
 std::vector<double> settle(int threads, RollingModel model) {
   omp_set_num_threads(threads);
-  Simulation sim = testing::barley_box(model, 8, 8, 7, 42);
+  // 1,440 spheres, 23 blocks of the force loop: enough that the chunked loop's block prefetch (8
+  // blocks ahead, dem/force_field.cpp) runs in both threads' ranges.
+  Simulation sim = testing::barley_box(model, 12, 12, 10, 42);
   sim.run_steps(3000);
   // State sorted by id.
   const Particles& p = sim.particles();
