@@ -419,7 +419,8 @@ void ForceField::pass_with(const Models<Rolling>& m, int threads, int thread, Pa
       prefetch_lines(inertia + lo, inertia + hi), prefetch_lines(material + lo, material + hi);
       prefetch_lines(force + lo, force + hi, true), prefetch_lines(torque + lo, torque + hi, true);
       prefetch_lines(before_count + lo, before_count + hi), prefetch_lines(count + lo, count + hi, true);
-      prefetch_lines(start + lo, start + hi + 1), prefetch_lines(rev_start + lo, rev_start + hi + 1);
+      // (Of `start` the pass reads only the two ends, loaded here; `complete` reads rev_start anywhere.)
+      prefetch_lines(rev_start + lo, rev_start + hi + 1);
       const std::uint32_t e0 = start[lo], e1 = start[hi];
       prefetch_lines(owner + e0, owner + e1), prefetch_lines(partner + e0, partner + e1);
       prefetch_lines(touching + e0, touching + e1, true), prefetch_lines(shear + e0, shear + e1, true);
