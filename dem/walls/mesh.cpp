@@ -1,6 +1,7 @@
 #include "dem/walls/mesh.hpp"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <map>
 #include <numeric>
@@ -150,11 +151,16 @@ void MeshGeometry::build_bins(double cell_size) {
   const Vec3 ext = hi_ - lo_;
   const double largest = std::max({ext.x, ext.y, ext.z});
   cell_ = cell_size > 0 ? cell_size : largest / 128;
-  // Keep the grid to a few million cells whatever the requested size.
+  // Keep the grid to a few million cells whatever the requested size. A cell's list holds only the
+  // triangles within ~3 cells of it, so fine cells keep the lists short in a detailed mesh; but a
+  // container of a few large triangles has short lists at any cell size, and there the records
+  // themselves cost more: a box's 140,000 records (0.8 m / 128) left a cache miss in every query,
+  // 4 % of the platform box's step, where 4,096 records stay in the cache (docs/performance.md).
   auto cells_for = [&](double h) {
     return (std::floor(ext.x / h) + 1) * (std::floor(ext.y / h) + 1) * (std::floor(ext.z / h) + 1);
   };
-  while (cells_for(cell_) > 4e6) cell_ *= 1.25;
+  const double most_cells = cell_size == 0 && mesh_.triangles.size() <= kFewTriangles ? kFewTrianglesCells : 4e6;
+  while (cells_for(cell_) > most_cells) cell_ *= 1.25;
   origin_ = lo_;
   dims_ = {static_cast<int>(ext.x / cell_) + 1, static_cast<int>(ext.y / cell_) + 1, static_cast<int>(ext.z / cell_) + 1};
   const std::size_t ncell = static_cast<std::size_t>(dims_[0]) * dims_[1] * dims_[2];
@@ -184,14 +190,15 @@ void MeshGeometry::build_bins(double cell_size) {
                               static_cast<std::uint32_t>(t)});
         }
   }
-  build_csr(ncell, cell_tri, bin_start_, bin_tri_);
+  std::vector<std::uint32_t> bin_start, bin_tri;
+  build_csr(ncell, cell_tri, bin_start, bin_tri);
 
   // Chebyshev distance (in cells) to the nearest occupied cell: breadth-first from every occupied
   // cell over the 26 neighbours, capped at 255.
-  cells_to_triangle_.assign(ncell, 255);
+  std::vector<std::uint8_t> to_triangle(ncell, 255);
   std::vector<std::uint32_t> front, next;
   for (std::size_t c = 0; c < ncell; ++c)
-    if (bin_start_[c + 1] > bin_start_[c]) cells_to_triangle_[c] = 0, front.push_back(static_cast<std::uint32_t>(c));
+    if (bin_start[c + 1] > bin_start[c]) to_triangle[c] = 0, front.push_back(static_cast<std::uint32_t>(c));
   for (int d = 1; d < 255 && !front.empty(); ++d) {
     next.clear();
     for (const std::uint32_t c : front) {
@@ -201,10 +208,38 @@ void MeshGeometry::build_bins(double cell_size) {
         for (int b = std::max(j - 1, 0); b <= std::min(j + 1, dims_[1] - 1); ++b)
           for (int e = std::max(k - 1, 0); e <= std::min(k + 1, dims_[2] - 1); ++e) {
             const std::size_t n = (static_cast<std::size_t>(a) * dims_[1] + b) * dims_[2] + e;
-            if (cells_to_triangle_[n] > d) cells_to_triangle_[n] = static_cast<std::uint8_t>(d), next.push_back(static_cast<std::uint32_t>(n));
+            if (to_triangle[n] > d) to_triangle[n] = static_cast<std::uint8_t>(d), next.push_back(static_cast<std::uint32_t>(n));
           }
     }
     front.swap(next);
+  }
+
+  // Each distinct list once (the same triangles in the same order, so a query tests them in the order
+  // it did when every cell had its own copy), numbered in order of first appearance, the empty list 0.
+  std::map<std::vector<std::uint32_t>, std::uint32_t> number;
+  list_start_.assign(1, 0);
+  list_tri_.clear();
+  auto add_list = [&](std::vector<std::uint32_t> tris) {
+    const auto [it, added] = number.emplace(std::move(tris), static_cast<std::uint32_t>(list_start_.size() - 1));
+    if (added) {
+      list_tri_.insert(list_tri_.end(), it->first.begin(), it->first.end());
+      list_start_.push_back(static_cast<std::uint32_t>(list_tri_.size()));
+    }
+    return it->second;
+  };
+  add_list({});
+  cell_record_.resize(ncell);
+  std::uint32_t previous = 0;  // the list of cell c - 1: neighbours along k mostly share it
+  for (std::size_t c = 0; c < ncell; ++c) {
+    const auto first = bin_tri.begin() + bin_start[c], last = bin_tri.begin() + bin_start[c + 1];
+    const auto same_first = list_tri_.begin() + list_start_[previous], same_last = list_tri_.begin() + list_start_[previous + 1];
+    const std::uint32_t list = first == last                                  ? 0
+                               : std::equal(first, last, same_first, same_last) ? previous
+                                                                                : add_list(std::vector<std::uint32_t>(first, last));
+    previous = list;
+    // ncell <= ~4e6 (above), so a list number fits the record's 24 bits.
+    assert(list < (1u << 24));
+    cell_record_[c] = list << 8 | to_triangle[c];
   }
 }
 
@@ -220,7 +255,7 @@ int MeshGeometry::nearby(const Vec3& p, double reach, WallHit* hits, int cap) co
       inside = inside && c3[k] >= 0 && c3[k] < dims_[k];
     }
     if (inside) {
-      const int d = cells_to_triangle_[(static_cast<std::size_t>(c3[0]) * dims_[1] + c3[1]) * dims_[2] + c3[2]];
+      const int d = static_cast<int>(cell_record_[(static_cast<std::size_t>(c3[0]) * dims_[1] + c3[1]) * dims_[2] + c3[2]] & 0xffu);
       if ((d - 1) * cell_ > reach) return 0;
     }
   }
@@ -266,8 +301,9 @@ int MeshGeometry::nearby(const Vec3& p, double reach, WallHit* hits, int cap) co
     for (int j = lo[1]; j <= hi[1]; ++j)
       for (int k = lo[2]; k <= hi[2]; ++k) {
         const std::size_t c = (static_cast<std::size_t>(i) * dims_[1] + j) * dims_[2] + k;
-        for (std::uint32_t m = bin_start_[c]; m < bin_start_[c + 1]; ++m) {
-          const std::uint32_t t = bin_tri_[m];
+        const std::uint32_t list = cell_record_[c] >> 8;
+        for (std::uint32_t m = list_start_[list]; m < list_start_[list + 1]; ++m) {
+          const std::uint32_t t = list_tri_[m];
           bool dup = false;
           for (int s = 0; s < n_seen && !dup; ++s) dup = seen[s] == t;
           if (dup) continue;

@@ -17,7 +17,11 @@
 // Distances are unsigned: a triangle pushes spheres off either side (a thin divider plate works).
 // Triangles are binned on a uniform grid in the mesh frame, each into every cell that comes within
 // reach_ = 2 cells of it: a query of at most that reach (a sphere's radius, the common case) looks in
-// its own cell only; a longer one visits the cells within its reach.
+// its own cell only; a longer one visits the cells within its reach. Neighbouring cells mostly hold
+// the same triangles (a container's floor spans thousands of cells), so each distinct list is stored
+// once and a cell holds only a 4-byte record: its list's number and the distance below. A query then
+// reads one scattered line (the record) instead of three (distance, bin start, bin contents): in the
+// platform box those three loads were half of this function's time (docs/performance.md).
 // Most queries come from particles far from every triangle (the inside of a bed): each cell also
 // stores how many cells away the nearest occupied cell is (a Chebyshev distance transform), and a
 // query whose cell is farther than its reach returns at once. That bound is safe: a triangle at
@@ -35,7 +39,13 @@ namespace grainscale::dem {
 
 class MeshGeometry final : public WallGeometry {
  public:
-  /// `cell_size` of the triangle bins; 0 = automatic (1/128 of the largest extent).
+  /// With the automatic cell size, a mesh of at most kFewTriangles triangles (a container: a box,
+  /// a tray, a divided box) gets a grid of at most kFewTrianglesCells cells (build_bins says why).
+  static constexpr std::size_t kFewTriangles = 128;
+  static constexpr double kFewTrianglesCells = 4096;
+
+  /// `cell_size` of the triangle bins; 0 = automatic (1/128 of the largest extent, coarser for a mesh
+  /// of few triangles: kFewTriangles).
   explicit MeshGeometry(TriangleMesh mesh, double cell_size = 0, std::string label = "mesh");
 
   int nearby(const Vec3& p, double reach, WallHit* hits, int cap) const override;
@@ -47,6 +57,11 @@ class MeshGeometry final : public WallGeometry {
   const TriangleMesh& mesh() const { return mesh_; }
   std::size_t patches() const { return patch_count_; }
   std::size_t edges() const { return edge_vertices_.size(); }
+  /// Edge of the grid's cells, m, and how many cells the grid has.
+  double cell_size() const { return cell_; }
+  std::size_t cells() const { return cell_record_.size(); }
+  /// Distinct triangle lists among the grid's cells, the empty one included.
+  std::size_t bin_lists() const { return list_start_.size() - 1; }
 
  private:
   void build_topology();
@@ -63,13 +78,15 @@ class MeshGeometry final : public WallGeometry {
   std::vector<std::uint32_t> edge_tri_start_, edge_tri_;  // CSR: triangles of each edge
   std::vector<std::uint32_t> vert_tri_start_, vert_tri_;  // CSR: triangles around each vertex
   std::vector<std::uint32_t> vert_edge_start_, vert_edge_;  // CSR: edges at each vertex
-  // Bins: cell (i, j, k) holds bin_tri_[bin_start_[c] .. bin_start_[c+1]).
+  // Bins: cell c = (i dims_[1] + j) dims_[2] + k has the record cell_record_[c] = list << 8 | d, where
+  // d is the Chebyshev distance in cells to the nearest occupied cell (max 255) and the cell holds the
+  // triangles list_tri_[list_start_[list] .. list_start_[list + 1]); list 0 is the empty one.
   Vec3 lo_, hi_, origin_;
   double cell_ = 1;
   double reach_ = 0;  // bins hold every triangle within this distance of the cell (2 cells)
   std::array<int, 3> dims_{1, 1, 1};
-  std::vector<std::uint32_t> bin_start_, bin_tri_;
-  std::vector<std::uint8_t> cells_to_triangle_;  // per cell: Chebyshev cells to the nearest occupied one (max 255)
+  std::vector<std::uint32_t> cell_record_;
+  std::vector<std::uint32_t> list_start_, list_tri_;
 };
 
 }  // namespace grainscale::dem

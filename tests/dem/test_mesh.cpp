@@ -148,6 +148,30 @@ TEST_CASE("The triangle bins find exactly what a search over every triangle find
   CHECK(touching > 300);
 }
 
+TEST_CASE("Cells that hold the same triangles share one stored list", "[dem][mesh]") {
+  // The platform box's container in 6.25 mm cells (0.8 m / 128; 129 x 33 x 33): ~140,000 cells, of
+  // which every one near a wall holds some of its 10 triangles, but only a few distinct lists (one or
+  // both floor triangles, a side's two, the corners' unions). One copy of each keeps a query to one
+  // scattered record (dem/walls/mesh.hpp).
+  const std::array<bool, 6> open_top{true, true, true, true, true, false};
+  const MeshGeometry mesh(box_mesh({0, 0, 0}, {0.8, 0.2, 0.2}, open_top), 0.00625);
+  INFO(mesh.describe() << "; " << mesh.bin_lists() << " distinct lists");
+  CHECK(mesh.bin_lists() >= 6);   // the empty list and at least one per wall
+  CHECK(mesh.bin_lists() <= 100);
+  // By default so few triangles get a grid of at most 4,096 cells (~24 mm here), which stays in the
+  // cache; a detailed mesh keeps 1/128 of its extent.
+  const MeshGeometry automatic(box_mesh({0, 0, 0}, {0.8, 0.2, 0.2}, open_top));
+  INFO(automatic.describe());
+  CHECK(mesh.cells() == 129 * 33 * 33);
+  CHECK(automatic.cells() <= 4096);
+  // The finest such grid: cells 1.25 times smaller would be too many.
+  const double finer = automatic.cell_size() / 1.25;
+  CHECK((std::floor(0.8 / finer) + 1) * std::pow(std::floor(0.2 / finer) + 1, 2) > 4096);
+  // A pipe's 96 facets are all different planes: its lists are many more, and still found right
+  // (the brute-force comparison above).
+  CHECK(MeshGeometry(pipe_mesh(0.05, 0.3, 48), 0.002).bin_lists() > 100);
+}
+
 TEST_CASE("STL files: binary and ASCII read back what was written; bad files are clear errors", "[dem][mesh][input]") {
   const TriangleMesh box = box_mesh({0, 0, 0}, {0.8, 0.2, 0.2}, {true, true, true, true, true, false}, 2);
   const std::string bin = temp_path("box.stl");
