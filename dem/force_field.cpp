@@ -486,6 +486,9 @@ void ForceField::pass_with(const Models<Rolling>& m, int threads, int thread, Pa
       flush_pairs(batch, dt, p, nl, open, worst_ratio, stiff_pair);
       if (fused && open.slot < n && open.slot > done) complete(done, open.slot), done = open.slot;
     };
+    AfterForces::Progress progress;  // the follow-up's, between its calls (AfterForces)
+    const std::size_t ready_from = done;
+    std::size_t ready_to = done;
     double busy = -omp_get_wtime();  // this thread's seconds in its blocks, for the next split
     for (std::size_t block = mine; block < mine_end; ++block) {
       const std::size_t lo = block * kPassBlock, hi = std::min(n, lo + kPassBlock);
@@ -567,6 +570,11 @@ void ForceField::pass_with(const Models<Rolling>& m, int threads, int thread, Pa
         }
       }
       batch.size = b;
+      if (fused && after != nullptr) {
+        // Final: the completed spheres, but for those whose wall contacts wait in the wall batch.
+        const std::size_t final_to = wall_batch.size > 0 ? std::min<std::size_t>(done, wall_batch.owner[0]) : done;
+        if (final_to > ready_to) after->ready(threads, thread, ready_from, final_to, progress), ready_to = final_to;
+      }
     }
     flush_pairs(batch, dt, p, nl, open, worst_ratio, stiff_pair);
     if (open.slot < n) force[open.slot] = open.force, torque[open.slot] = open.torque;
@@ -594,7 +602,7 @@ void ForceField::pass_with(const Models<Rolling>& m, int threads, int thread, Pa
     // This thread's spheres' forces are complete.
     signals_.post(thread, forces_done);
     pass_stats_[thread] = {contacts, wall_contacts, worst_ratio, stiff_pair, worst_wall, stiff_wall, bad, overflow};
-    if (after != nullptr) after->run(ForceTeam(signals_, forces_done, threads, thread));
+    if (after != nullptr) after->run(ForceTeam(signals_, forces_done, threads, thread), progress);
   }
 }
 

@@ -102,9 +102,22 @@ class ForceTeam {
 /// Work that follows the forces in the force loop's parallel region, by each thread (the bodies'
 /// sums, dem/simulation.cpp): one fork and join a step fewer (3.2-3.7 µs on this project's VMs), and
 /// a thread starts on it as soon as its own forces are done.
+///
+/// In beds beyond the caches the sweep also says, block by block, which of the thread's spheres have
+/// their final force already (ready): work on those done there reads their forces while they are
+/// still in the caches, instead of from memory after the sweep (the platform box's body sums: 10 %
+/// of its step, waiting on those loads; docs/performance.md). `progress` is the follow-up's own note
+/// of what it has done, kept by the force loop for it, one per thread; run() does the rest.
 class AfterForces {
  public:
-  virtual void run(const ForceTeam& team) = 0;
+  struct Progress {
+    bool started = false;
+    std::size_t first = 0, next = 0, stop = 0;  // for the follow-up's use
+  };
+  /// Spheres [from, to) of this thread's range have their final forces; `from` is the same in every
+  /// call of a step, `to` grows. Not called in beds within the caches.
+  virtual void ready(int team, int thread, std::size_t from, std::size_t to, Progress& progress) = 0;
+  virtual void run(const ForceTeam& team, Progress& progress) = 0;
 
  protected:
   ~AfterForces() = default;

@@ -476,15 +476,54 @@ std::size_t Simulation::first_crossing_body(int team, int t, std::size_t first, 
   return std::clamp(bodies_.first_at(sphere_last > body_slot_span_ ? sphere_last - body_slot_span_ : 0), first, last);
 }
 
-void Simulation::sum_bodies(const ForceTeam& team, double half_kick) {
+void Simulation::sum_body(std::size_t k, double half_kick) {
+  Bodies& b = bodies_;
+  const Particles& p = particles_;
+  Vec3 f{}, t{};
+  for (std::uint32_t m = b.sphere_start[k]; m < b.sphere_start[k + 1]; ++m) {
+    const std::uint32_t s = b.sphere_slot[m];
+    f += p.force[s];
+    t += cross(p.x[s] - b.x[k], p.force[s]) + p.torque[s];
+  }
+  b.force[k] = f + b.mass[k] * settings_.gravity;
+  b.torque[k] = t;
+  if (half_kick > 0) {
+    b.v[k] += (half_kick * b.inv_mass[k]) * b.force[k];
+    b.L[k] += half_kick * b.torque[k];
+  }
+}
+
+void Simulation::sum_ready_bodies(int team, int thread, std::size_t from, std::size_t to, double half_kick,
+                                  AfterForces::Progress& progress) {
+  // In the force loop's sweep (beds beyond the caches), block by block: the bodies whose spheres'
+  // forces were made a few blocks ago, still in the caches. Bodies are numbered in the order of
+  // their first sphere and a body's slots ascend, so those ready are a prefix of the bodies that
+  // start at or after `from`: [progress.first, progress.next) when done, up to progress.stop, the
+  // first that may cross into the range above (left to sum_bodies, which waits for it).
+  const Bodies& b = bodies_;
+  if (!b.indexed(particles_.size())) return;  // bodies added since the last build: sum_bodies
+  if (!progress.started) {
+    std::size_t first = 0, last = 0, sphere_first = 0, sphere_last = 0;
+    thread_bodies(team, thread, first, last);
+    forces_.thread_spheres(particles_.size(), team, thread, sphere_first, sphere_last);
+    progress.stop = first_crossing_body(team, thread, first, last, sphere_last);
+    progress.first = progress.next = std::clamp(b.first_at(from), first, progress.stop);
+    progress.started = true;
+  }
+  std::size_t k = progress.next;
+  while (k < progress.stop && b.sphere_slot[b.sphere_start[k + 1] - 1] < to) sum_body(k++, half_kick);
+  progress.next = k;
+}
+
+void Simulation::sum_bodies(const ForceTeam& team, double half_kick, const AfterForces::Progress& progress) {
   // Per body: its spheres' contact forces summed about its centre, plus gravity; with half_kick > 0
   // also the half kick that follows them in a step (one pass over the bodies instead of two). Run by
   // each thread of the force loop's team as soon as its own spheres' forces are complete
   // (ForceField::compute): the bodies that start in its range have their spheres in it, but for its
   // last few, which may have spheres in the ranges above; for those it waits for the threads above.
-  Bodies& b = bodies_;
+  // Those the sweep found ready (sum_ready_bodies) are done.
+  const Bodies& b = bodies_;
   const Particles& p = particles_;
-  const Vec3 g = settings_.gravity;
   const std::size_t n = p.size();
   const int thread = team.thread();
   std::size_t first = 0, last = 0, sphere_first = 0, sphere_last = 0;
@@ -514,21 +553,16 @@ void Simulation::sum_bodies(const ForceTeam& team, double half_kick) {
           ++fetched;
         }
       }
-      Vec3 f{}, t{};
-      for (std::uint32_t m = b.sphere_start[k]; m < b.sphere_start[k + 1]; ++m) {
-        const std::uint32_t s = b.sphere_slot[m];
-        f += p.force[s];
-        t += cross(p.x[s] - b.x[k], p.force[s]) + p.torque[s];
-      }
-      b.force[k] = f + b.mass[k] * g;
-      b.torque[k] = t;
-      if (half_kick > 0) {
-        b.v[k] += (half_kick * b.inv_mass[k]) * b.force[k];
-        b.L[k] += half_kick * b.torque[k];
-      }
+      sum_body(k, half_kick);
     }
   };
-  sum(first, crossing);
+  if (by_range && progress.started) {
+    assert(progress.stop == crossing && first <= progress.first && progress.next <= crossing);
+    sum(first, progress.first);
+    sum(progress.next, crossing);
+  } else {
+    sum(first, crossing);
+  }
   if (crossing < last) {
     team.wait_above();
     ahead_end = std::min(n, sphere_last + body_slot_span_);

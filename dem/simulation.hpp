@@ -176,14 +176,24 @@ class Simulation {
   void move_spheres_with_bodies();
   void index_spheres_by_body();
   void renumber_bodies();
-  /// Thread team.thread()'s share of the bodies' sums (in the force loop's region: compute_forces).
-  void sum_bodies(const ForceTeam& team, double half_kick);
+  /// Thread team.thread()'s share of the bodies' sums (in the force loop's region: compute_forces),
+  /// but for those sum_ready_bodies did already (`progress`).
+  void sum_bodies(const ForceTeam& team, double half_kick, const AfterForces::Progress& progress);
+  /// Of thread `thread`'s bodies, those whose spheres all lie in [from, to), the spheres whose
+  /// forces are final so far (AfterForces::ready), and that it has not summed yet.
+  void sum_ready_bodies(int team, int thread, std::size_t from, std::size_t to, double half_kick,
+                        AfterForces::Progress& progress);
+  /// Body k's sum of its spheres' forces and torques, plus gravity, and the half kick if half_kick > 0.
+  void sum_body(std::size_t k, double half_kick);
   /// The bodies' sums as the force loop's follow-up (ForceField::compute, ForceField::pass).
   struct BodySums final : AfterForces {
     Simulation& sim;
     double half_kick;
     BodySums(Simulation& s, double h) : sim(s), half_kick(h) {}
-    void run(const ForceTeam& team) override { sim.sum_bodies(team, half_kick); }
+    void ready(int team, int thread, std::size_t from, std::size_t to, Progress& progress) override {
+      sim.sum_ready_bodies(team, thread, from, to, half_kick, progress);
+    }
+    void run(const ForceTeam& team, Progress& progress) override { sim.sum_bodies(team, half_kick, progress); }
   };
   /// The bodies [first, last) thread t of a team of `team` takes in the per-body loops: those whose
   /// first sphere lies in the spheres it takes in the force loop (ForceField::thread_spheres).
