@@ -492,6 +492,7 @@ void ForceField::pass_with(const Models<Rolling>& m, int threads, int thread, Pa
       if (fused && open.slot < n && open.slot > done) complete(done, open.slot), done = open.slot;
     };
     AfterForces::Progress progress;  // the follow-up's, between its calls (AfterForces)
+    const bool ready_calls = fused && after != nullptr && after->wants_ready();
     const std::size_t ready_from = done;
     std::size_t ready_to = done;
     double busy = -omp_get_wtime();  // this thread's seconds in its blocks, for the next split
@@ -575,7 +576,7 @@ void ForceField::pass_with(const Models<Rolling>& m, int threads, int thread, Pa
         }
       }
       batch.size = b;
-      if (fused && after != nullptr) {
+      if (ready_calls) {
         // Final: the completed spheres, but for those whose wall contacts wait in the wall batch.
         const std::size_t final_to = wall_batch.size > 0 ? std::min<std::size_t>(done, wall_batch.owner[0]) : done;
         if (final_to > ready_to) after->ready(threads, thread, ready_from, final_to, progress), ready_to = final_to;

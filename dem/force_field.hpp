@@ -114,6 +114,8 @@ class AfterForces {
     bool started = false;
     std::size_t first = 0, next = 0, stop = 0;  // for the follow-up's use
   };
+  /// Whether ready() is to be called this step at all.
+  virtual bool wants_ready() const = 0;
   /// Spheres [from, to) of this thread's range have their final forces; `from` is the same in every
   /// call of a step, `to` grows. Not called in beds within the caches.
   virtual void ready(int team, int thread, std::size_t from, std::size_t to, Progress& progress) = 0;
