@@ -39,9 +39,11 @@ namespace grainscale::dem {
 
 class MeshGeometry final : public WallGeometry {
  public:
-  /// With the automatic cell size, a mesh of at most kFewTriangles triangles (a container: a box,
-  /// a tray, a divided box) gets a grid of at most kFewTrianglesCells cells (build_bins says why).
-  static constexpr std::size_t kFewTriangles = 128;
+  /// With the automatic cell size, a mesh of at most kFewTriangles triangles (a box, a divided box:
+  /// a few large faces) gets a grid of at most kFewTrianglesCells cells (build_bins says why). Not a
+  /// curved one (the report's pipe of 48 sides has 96 triangles): in coarse cells its lists would hold
+  /// a dozen facets each, all near enough to pass the plane test.
+  static constexpr std::size_t kFewTriangles = 32;
   static constexpr double kFewTrianglesCells = 4096;
 
   /// `cell_size` of the triangle bins; 0 = automatic (1/128 of the largest extent, coarser for a mesh

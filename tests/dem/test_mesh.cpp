@@ -170,6 +170,10 @@ TEST_CASE("Cells that hold the same triangles share one stored list", "[dem][mes
   // A pipe's 96 facets are all different planes: its lists are many more, and still found right
   // (the brute-force comparison above).
   CHECK(MeshGeometry(pipe_mesh(0.05, 0.3, 48), 0.002).bin_lists() > 100);
+  // A curved mesh keeps the fine grid by default (1/128 of its 0.3 m length).
+  const MeshGeometry pipe(pipe_mesh(0.05, 0.3, 48));
+  CHECK(pipe.cell_size() == Approx(0.3 / 128));
+  CHECK(pipe.cells() > 4096);
 }
 
 TEST_CASE("STL files: binary and ASCII read back what was written; bad files are clear errors", "[dem][mesh][input]") {
