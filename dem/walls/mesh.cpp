@@ -151,16 +151,14 @@ void MeshGeometry::build_bins(double cell_size) {
   const Vec3 ext = hi_ - lo_;
   const double largest = std::max({ext.x, ext.y, ext.z});
   cell_ = cell_size > 0 ? cell_size : largest / 128;
-  // Keep the grid to a few million cells whatever the requested size. A cell's list holds only the
-  // triangles within ~3 cells of it, so fine cells keep the lists short in a detailed mesh; but a
-  // container of a few large triangles has short lists at any cell size, and there the records
-  // themselves cost more: a box's 140,000 records (0.8 m / 128) left a cache miss in every query,
-  // 4 % of the platform box's step, where 4,096 records stay in the cache (docs/performance.md).
+  // Keep the grid to a few million cells whatever the requested size. (A coarser default for meshes
+  // of few triangles kept the records in the cache, but the cell size decides the order in which a
+  // query that spans several cells finds its features, hence the order of a sphere's wall forces:
+  // trajectories changed; docs/performance.md, "tenth session".)
   auto cells_for = [&](double h) {
     return (std::floor(ext.x / h) + 1) * (std::floor(ext.y / h) + 1) * (std::floor(ext.z / h) + 1);
   };
-  const double most_cells = cell_size == 0 && mesh_.triangles.size() <= kFewTriangles ? kFewTrianglesCells : 4e6;
-  while (cells_for(cell_) > most_cells) cell_ *= 1.25;
+  while (cells_for(cell_) > 4e6) cell_ *= 1.25;
   origin_ = lo_;
   dims_ = {static_cast<int>(ext.x / cell_) + 1, static_cast<int>(ext.y / cell_) + 1, static_cast<int>(ext.z / cell_) + 1};
   const std::size_t ncell = static_cast<std::size_t>(dims_[0]) * dims_[1] * dims_[2];

@@ -39,15 +39,7 @@ namespace grainscale::dem {
 
 class MeshGeometry final : public WallGeometry {
  public:
-  /// With the automatic cell size, a mesh of at most kFewTriangles triangles (a box, a divided box:
-  /// a few large faces) gets a grid of at most kFewTrianglesCells cells (build_bins says why). Not a
-  /// curved one (the report's pipe of 48 sides has 96 triangles): in coarse cells its lists would hold
-  /// a dozen facets each, all near enough to pass the plane test.
-  static constexpr std::size_t kFewTriangles = 32;
-  static constexpr double kFewTrianglesCells = 4096;
-
-  /// `cell_size` of the triangle bins; 0 = automatic (1/128 of the largest extent, coarser for a mesh
-  /// of few triangles: kFewTriangles).
+  /// `cell_size` of the triangle bins; 0 = automatic (1/128 of the largest extent).
   explicit MeshGeometry(TriangleMesh mesh, double cell_size = 0, std::string label = "mesh");
 
   int nearby(const Vec3& p, double reach, WallHit* hits, int cap) const override;
@@ -59,8 +51,7 @@ class MeshGeometry final : public WallGeometry {
   const TriangleMesh& mesh() const { return mesh_; }
   std::size_t patches() const { return patch_count_; }
   std::size_t edges() const { return edge_vertices_.size(); }
-  /// Edge of the grid's cells, m, and how many cells the grid has.
-  double cell_size() const { return cell_; }
+  /// How many cells the grid has.
   std::size_t cells() const { return cell_record_.size(); }
   /// Distinct triangle lists among the grid's cells, the empty one included.
   std::size_t bin_lists() const { return list_start_.size() - 1; }
