@@ -183,7 +183,7 @@ TEST_CASE("Clumps on a floor move the same, bit for bit, whichever sweep the for
   // Beds beyond the caches sum each body as soon as its spheres' forces are final, inside the force
   // loop's sweep (AfterForces::ready); beds within them after it. A body summed a block too early (a
   // sphere of it not yet completed, or its wall contacts still waiting in the wall batch) or twice
-  // would show in its velocity. 144 wheat clumps, 1,008 spheres, 16 blocks of the loop: four layers
+  // would show in its velocity. 256 wheat clumps, 1,792 spheres, 28 blocks of the loop: four layers
   // of crossed clumps pressed onto the floor by a strong gravity, so that their contacts last; the
   // batches of pairs must fill for the sweep to find bodies ready before its end (the count below).
   const testing::ParallelEverything guard;  // every loop parallel, however small
