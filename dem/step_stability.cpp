@@ -192,6 +192,7 @@ StepStability StepStabilityMonitor::assess(const Particles& p, const Bodies& b, 
   // The worst body by its bound, and the suspects (numbered in body order) for stage 2.
   StepStability worst;
   std::size_t suspects = 0;
+  refined_ = 0;
   suspect_.assign(nb, -1);
   for (std::size_t k = 0; k < nb; ++k) {
     if (count_[k] == 0) continue;
@@ -205,26 +206,24 @@ StepStability StepStabilityMonitor::assess(const Particles& p, const Bodies& b, 
   if (suspects == 0) return worst;
 
   // Stage 2: the suspects' own 6-dof modes.
-  if (springs_.size() < suspects) springs_.resize(suspects);
-  for (std::size_t s = 0; s < suspects; ++s) springs_[s].clear();
-  for_each_contact(p, b, nl, walls, forces,
-                   [&](std::size_t bi, const Vec3& ri, const Vec3& n, std::int64_t bj, const Vec3& rj, double s_n,
-                       double c_n) {
-                     const double ai = mobility_[bi].compliance(ri, n);
-                     const double aj = bj >= 0 ? mobility_[static_cast<std::size_t>(bj)].compliance(rj, n) : 0.0;
-                     if (suspect_[bi] >= 0) {
-                       const double f = 1 + std::sqrt(aj / ai);
-                       springs_[suspect_[bi]].push_back({n, ri, f * s_n, f * c_n});
-                     }
-                     if (bj >= 0 && suspect_[bj] >= 0) {
-                       const double f = 1 + std::sqrt(ai / aj);
-                       springs_[suspect_[bj]].push_back({n, rj, f * s_n, f * c_n});
-                     }
-                   });
+  //
+  // Which suspects: the margin is monotone in the mode's frequency Omega and in its damping
+  // c = phi^T C phi = 2 zeta Omega, since Omega dt / [2 (sqrt(1 + zeta^2) - zeta)] =
+  // (dt / 2) (sqrt(Omega^2 + c^2 / 4) + c / 2); and Gershgorin's theorem bounds Omega^2 <= g_K, c <= g_C
+  // by the largest absolute row sums of the body's 6 x 6 K and C. So a suspect whose bound
+  // (dt / 2) (sqrt(g_K + g_C^2 / 4) + g_C / 2) is below the worst margin found so far cannot be the
+  // worst, and its eigenproblem is skipped. Taken in order of their stage-1 bound, the worst comes
+  // early: on the tilting platform box 13 of ~1,660 suspects were solved (docs/performance.md,
+  // "eleventh session"). The worst body is the same as solving every suspect's (ties to the lower body).
+  //
+  // Each suspect's contacts: the pairs in entry order, then the wall contacts sphere by sphere, the
+  // order of the walk over every contact in stage 1, so the same matrices bit for bit whichever way
+  // they are found. With the bodies indexed by sphere and the list covering every sphere, they are
+  // found from the suspect's spheres' rows and reverse ranges (walking every contact again cost as
+  // much as stage 1); else by walking every contact once more.
   using Mat6 = Eigen::Matrix<double, 6, 6>;
   using Vec6 = Eigen::Matrix<double, 6, 1>;
-  for (std::size_t k = 0; k < nb; ++k) {
-    if (suspect_[k] < 0) continue;
+  auto refine = [&](std::size_t k, const std::vector<Spring>& springs) {
     // Work in mass-normalised coordinates: K' = M^-1/2 K M^-1/2.
     const Eigen::Matrix3d R = rotation_matrix(b.q[k]);
     const Eigen::Vector3d inv_sqrt_I(1 / std::sqrt(b.inertia[k].x), 1 / std::sqrt(b.inertia[k].y),
@@ -232,7 +231,7 @@ StepStability StepStabilityMonitor::assess(const Particles& p, const Bodies& b, 
     const Eigen::Matrix3d rot_scale = R * inv_sqrt_I.asDiagonal() * R.transpose();  // I_world^-1/2
     const double lin_scale = 1 / std::sqrt(b.mass[k]);
     Mat6 K = Mat6::Zero(), C = Mat6::Zero();
-    for (const Spring& s : springs_[suspect_[k]]) {
+    for (const Spring& s : springs) {
       const Vec3 rn = cross(s.r, s.n);
       Vec6 j;
       j.head<3>() = lin_scale * Eigen::Vector3d(s.n.x, s.n.y, s.n.z);
@@ -240,13 +239,76 @@ StepStability StepStabilityMonitor::assess(const Particles& p, const Bodies& b, 
       K += s.stiffness * j * j.transpose();
       C += s.damping * j * j.transpose();
     }
+    const double g_k = K.cwiseAbs().rowwise().sum().maxCoeff(), g_c = C.cwiseAbs().rowwise().sum().maxCoeff();
+    margin_[k] = 0.5 * dt * (std::sqrt(g_k + 0.25 * g_c * g_c) + 0.5 * g_c);
+    // (1e-6: room for the round-off of margin_of and of the eigenvalue, far above either.)
+    if (!refine_every_suspect_ && margin_[k] * (1 + 1e-6) < worst.margin) return;
     const Eigen::SelfAdjointEigenSolver<Mat6> eig(K);
     const double omega = std::sqrt(std::max(eig.eigenvalues()(5), 0.0));
     const Vec6 phi = eig.eigenvectors().col(5);
     const double zeta = omega > 0 ? phi.dot(C * phi) / (2 * omega) : 0;
     const double margin = margin_of(omega * dt, zeta);
-    if (margin > worst.margin) worst = {margin, omega * dt, zeta, static_cast<std::int64_t>(k), count_[k], true};
+    margin_[k] = margin;
+    ++refined_;
+    const auto body = static_cast<std::int64_t>(k);
+    if (margin > worst.margin || (margin == worst.margin && worst.refined && body < worst.body))
+      worst = {margin, omega * dt, zeta, body, count_[k], true};
+  };
+  // A spring of contact (bi, bj) for body `side` (one of them), the partner's mobility in its stiffness.
+  auto spring_for = [&](std::size_t side, std::size_t bi, const Vec3& ri, const Vec3& n, std::int64_t bj,
+                        const Vec3& rj, double s_n, double c_n) {
+    const double ai = mobility_[bi].compliance(ri, n);
+    const double aj = bj >= 0 ? mobility_[static_cast<std::size_t>(bj)].compliance(rj, n) : 0.0;
+    const double f = side == bi ? 1 + std::sqrt(aj / ai) : 1 + std::sqrt(ai / aj);
+    return side == bi ? Spring{n, ri, f * s_n, f * c_n} : Spring{n, rj, f * s_n, f * c_n};
+  };
+
+  order_.clear();
+  for (std::size_t k = 0; k < nb; ++k)
+    if (suspect_[k] >= 0) order_.push_back(static_cast<std::uint32_t>(k));
+  if (!refine_every_suspect_) {
+    std::stable_sort(order_.begin(), order_.end(), [&](std::uint32_t x, std::uint32_t y) { return margin_[x] > margin_[y]; });
   }
+  const bool by_body = !refine_from_every_contact_ && b.indexed(n) && nl.starts().size() == n + 1 &&
+                       nl.rev_starts().size() == n + 1;
+  if (by_body) {
+    if (springs_.empty()) springs_.resize(1);
+    std::vector<Spring>& springs = springs_[0];
+    for (const std::uint32_t k : order_) {
+      springs.clear();
+      entries_.clear();
+      for (std::uint32_t m = b.sphere_start[k]; m < b.sphere_start[k + 1]; ++m) {
+        const std::uint32_t s = b.sphere_slot[m];
+        for (std::uint32_t e = nl.begin(s); e < nl.end(s); ++e) entries_.push_back(e);
+        for (std::uint32_t r = nl.rev_begin(s); r < nl.rev_end(s); ++r) entries_.push_back(nl.rev_entry(r));
+      }
+      std::sort(entries_.begin(), entries_.end());  // entry order, as the whole walk meets them
+      auto add_spring = [&](std::size_t, std::size_t bi, const Vec3& ri, const Vec3& normal, std::int64_t bj,
+                            const Vec3& rj, double s_n, double c_n) {
+        springs.push_back(spring_for(k, bi, ri, normal, bj, rj, s_n, c_n));
+      };
+      for (const std::uint32_t e : entries_) for_each_pair_contact(p, b, nl, forces, e, e + 1, add_spring);
+      for (std::uint32_t m = b.sphere_start[k]; m < b.sphere_start[k + 1]; ++m) {  // slots ascending
+        const std::uint32_t s = b.sphere_slot[m];
+        for_each_wall_contact(p, b, walls, forces, near, s, s + 1, add_spring);
+      }
+      refine(k, springs);
+    }
+    return worst;
+  }
+  if (springs_.size() < suspects) springs_.resize(suspects);
+  for (std::size_t s = 0; s < suspects; ++s) springs_[s].clear();
+  for_each_contact(p, b, nl, walls, forces,
+                   [&](std::size_t bi, const Vec3& ri, const Vec3& normal, std::int64_t bj, const Vec3& rj,
+                       double s_n, double c_n) {
+                     if (suspect_[bi] >= 0)
+                       springs_[static_cast<std::size_t>(suspect_[bi])].push_back(
+                           spring_for(bi, bi, ri, normal, bj, rj, s_n, c_n));
+                     if (bj >= 0 && suspect_[static_cast<std::size_t>(bj)] >= 0)
+                       springs_[static_cast<std::size_t>(suspect_[static_cast<std::size_t>(bj)])].push_back(
+                           spring_for(static_cast<std::size_t>(bj), bi, ri, normal, bj, rj, s_n, c_n));
+                   });
+  for (const std::uint32_t k : order_) refine(k, springs_[static_cast<std::size_t>(suspect_[k])]);
   return worst;
 }
 

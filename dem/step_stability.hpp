@@ -58,6 +58,20 @@ class StepStabilityMonitor {
                        const ForceField& forces, double dt);
   /// Per body, the last assess()'s stage-1 bound on Omega^2 (0 for a body without contacts).
   const std::vector<double>& omega2_bounds() const { return omega2_; }
+  /// Per body, the last assess()'s margin: the 6-dof mode's for the bodies refined in stage 2, for
+  /// the other suspects the bound that ruled them out (their 6 x 6 Gershgorin bound), the stage-1
+  /// bound's for the rest, 0 for a body without contacts.
+  const std::vector<double>& margins() const { return margin_; }
+  /// How many suspects the last assess() solved the 6-dof eigenproblem of.
+  std::size_t refined() const { return refined_; }
+  /// The reference stage 2, which the tests compare the fast one with (the same worst body, bit for
+  /// bit): solve every suspect's eigenproblem, not only those whose bound could be the worst
+  /// (`every_suspect`); find each suspect's contacts by walking every contact, as for bodies not yet
+  /// indexed, not from its spheres' rows and reverse ranges (`every_contact`).
+  void use_reference_stage2(bool every_suspect, bool every_contact) {
+    refine_every_suspect_ = every_suspect;
+    refine_from_every_contact_ = every_contact;
+  }
 
  private:
   struct Spring {  // one contact as seen by one body
@@ -89,7 +103,11 @@ class StepStabilityMonitor {
   std::vector<Mobility> mobility_;                       // per body, made at each check
   std::vector<double> omega2_, damping_rate_, margin_;  // per body, reused between calls
   std::vector<int> count_, suspect_;                    // suspect_[b]: index into springs_ or -1
-  std::vector<std::vector<Spring>> springs_;            // per suspect body
+  std::vector<std::vector<Spring>> springs_;            // per suspect body (by body: [0], one at a time)
+  std::vector<std::uint32_t> entries_;                  // a suspect's neighbour-list entries, in order
+  std::vector<std::uint32_t> order_;                    // the suspects, worst stage-1 bound first
+  bool refine_from_every_contact_ = false, refine_every_suspect_ = false;
+  std::size_t refined_ = 0;
   struct PairTerms {  // one contact's stage-1 terms for its two bodies (i: the owner's, j: the partner's)
     double stiffness_i, damping_i, stiffness_j, damping_j;
     std::uint32_t body_i, body_j;

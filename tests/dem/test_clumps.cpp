@@ -5,6 +5,7 @@
 
 #include "parallel_everything.hpp"
 #include "pass_one_loop.hpp"
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <memory>
@@ -299,6 +300,25 @@ std::vector<double> omega2_bounds_by_brute_force(const Simulation& sim, const Ma
   return bound;
 }
 
+/// 180 wheat clumps tilted every way, in a column that falls into a heap in a 44 mm square box:
+/// pairs, floor and side-wall contacts.
+void pour_heap(Simulation& sim) {
+  const Shape s = wheat();
+  for (int i = 0; i < 6; ++i)
+    for (int j = 0; j < 6; ++j)
+      for (int k = 0; k < 5; ++k) {
+        const Vec3 axis{1, 0.3 * i - 0.7, 0.2 * j + 0.1 * k};
+        sim.add_clump(s, 0, 1380, {0.0072 * i, 0.0072 * j, 0.004 + 0.0075 * k},
+                      axis_angle((1 / norm(axis)) * axis, 0.4 * (i + 2 * j + 3 * k)));
+      }
+  sim.add_wall("floor", std::make_shared<PlaneGeometry>(Vec3{0, 0, 0}, Vec3{0, 0, 1}), 1);
+  sim.add_wall("x0", std::make_shared<PlaneGeometry>(Vec3{-0.004, 0, 0}, Vec3{1, 0, 0}), 1);
+  sim.add_wall("x1", std::make_shared<PlaneGeometry>(Vec3{0.04, 0, 0}, Vec3{-1, 0, 0}), 1);
+  sim.add_wall("y0", std::make_shared<PlaneGeometry>(Vec3{0, -0.004, 0}, Vec3{0, 1, 0}), 1);
+  sim.add_wall("y1", std::make_shared<PlaneGeometry>(Vec3{0, 0.04, 0}, Vec3{0, -1, 0}), 1);
+  sim.run_steps(25000);  // fallen into a heap
+}
+
 void require_bounds_near(const std::vector<double>& got, const std::vector<double>& want) {
   REQUIRE(got.size() == want.size());
   for (std::size_t k = 0; k < want.size(); ++k) {
@@ -318,19 +338,7 @@ TEST_CASE("The step-stability check of a clump heap counts every contact once, t
   omp_set_num_threads(1);
   Simulation sim(grain_and_floor(0.5, 0.35, 0.08), {});
   const Shape s = wheat();
-  for (int i = 0; i < 6; ++i)
-    for (int j = 0; j < 6; ++j)
-      for (int k = 0; k < 5; ++k) {  // tilted every way, in a column that falls into a heap
-        const Vec3 axis{1, 0.3 * i - 0.7, 0.2 * j + 0.1 * k};
-        sim.add_clump(s, 0, 1380, {0.0072 * i, 0.0072 * j, 0.004 + 0.0075 * k},
-                      axis_angle((1 / norm(axis)) * axis, 0.4 * (i + 2 * j + 3 * k)));
-      }
-  sim.add_wall("floor", std::make_shared<PlaneGeometry>(Vec3{0, 0, 0}, Vec3{0, 0, 1}), 1);
-  sim.add_wall("x0", std::make_shared<PlaneGeometry>(Vec3{-0.004, 0, 0}, Vec3{1, 0, 0}), 1);
-  sim.add_wall("x1", std::make_shared<PlaneGeometry>(Vec3{0.04, 0, 0}, Vec3{-1, 0, 0}), 1);
-  sim.add_wall("y0", std::make_shared<PlaneGeometry>(Vec3{0, -0.004, 0}, Vec3{0, 1, 0}), 1);
-  sim.add_wall("y1", std::make_shared<PlaneGeometry>(Vec3{0, 0.04, 0}, Vec3{0, -1, 0}), 1);
-  sim.run_steps(25000);  // fallen into a heap: pairs and floor contacts
+  pour_heap(sim);
   const StepStability one = sim.check_stability();
   const std::vector<double> bounds = sim.stability_monitor().omega2_bounds();
   INFO("contacts " << sim.diagnostics().contacts << ", wall contacts " << sim.diagnostics().wall_contacts);
@@ -366,6 +374,64 @@ TEST_CASE("The step-stability check of a clump heap counts every contact once, t
   CHECK(std::memcmp(added_3.data(), added.data(), added.size() * sizeof(double)) == 0);
   CHECK(added.back() > 0);  // the new clump touches the wall
   require_bounds_near(added, omega2_bounds_by_brute_force(sim, grain_and_floor(0.5, 0.35, 0.08)));
+  omp_set_num_threads(2);
+}
+
+TEST_CASE("Stage 2 of the step-stability check: each suspect's contacts from its own spheres, eigenproblems only where "
+          "the worst can be, the same worst body", "[dem][clump][stability]") {
+  // dem/step_stability.cpp, stage 2, two short cuts against the reference (every contact walked again,
+  // every suspect's 6 x 6 eigenproblem solved):
+  //  - each suspect's contacts come from its spheres' neighbour-list rows and reverse ranges, in the
+  //    order of the walk over every contact: the same matrices, so the same margins bit for bit;
+  //  - a suspect whose Gershgorin bound on its margin is below the worst found so far is not solved:
+  //    its bound is above its margin, and the worst body is the same.
+  // The step is raised until most of the heap's bodies are suspects.
+  const testing::ParallelEverything guard;
+  omp_set_num_threads(1);
+  Simulation sim(grain_and_floor(0.5, 0.35, 0.08), {});
+  pour_heap(sim);
+  auto assess = [&](StepStabilityMonitor& m, double dt) {
+    return m.assess(sim.particles(), sim.bodies(), sim.neighbors(), sim.walls(), sim.force_field(), dt);
+  };
+  StepStabilityMonitor probe;
+  assess(probe, sim.dt());
+  std::vector<double> m = probe.margins();
+  m.erase(std::remove(m.begin(), m.end(), 0.0), m.end());
+  REQUIRE(m.size() > 80);
+  std::sort(m.begin(), m.end());
+  const double dt = sim.dt() * 2 * StepStabilityMonitor::kRefineAbove / m[m.size() / 2];  // the median's bound at 1
+  std::size_t sure_suspects = 0;  // margin >= Omega dt / 2 for any damping
+  for (const double w2 : probe.omega2_bounds()) sure_suspects += std::sqrt(w2) * dt > 2 * StepStabilityMonitor::kRefineAbove;
+  INFO("dt " << dt << " s, " << sure_suspects << " bodies surely suspects of " << m.size() << " touching");
+  REQUIRE(sure_suspects > 40);
+  for (int threads : {1, 2}) {
+    omp_set_num_threads(threads);
+    StepStabilityMonitor fast, by_body, reference;
+    by_body.use_reference_stage2(true, false);
+    reference.use_reference_stage2(true, true);
+    const StepStability f = assess(fast, dt), a = assess(by_body, dt), r = assess(reference, dt);
+    REQUIRE(r.refined);
+    REQUIRE(reference.refined() >= sure_suspects);
+    REQUIRE(by_body.refined() == reference.refined());
+    REQUIRE(by_body.margins().size() == reference.margins().size());
+    std::size_t same = 0, bounded = 0;
+    for (std::size_t k = 0; k < reference.margins().size(); ++k) {
+      same += std::memcmp(&by_body.margins()[k], &reference.margins()[k], sizeof(double)) == 0;
+      // (a bound, up to round-off: it is exact for a body whose one contact pushes along an axis)
+      bounded += fast.margins()[k] >= reference.margins()[k] * (1 - 1e-12);
+    }
+    CHECK(same == reference.margins().size());
+    CHECK(bounded == reference.margins().size());
+    INFO(fast.refined() << " of " << reference.refined() << " suspects solved");
+    CHECK(fast.refined() < reference.refined() / 4);
+    for (const StepStability* x : {&a, &f}) {
+      CHECK(std::memcmp(&x->margin, &r.margin, sizeof(double)) == 0);
+      CHECK(std::memcmp(&x->zeta, &r.zeta, sizeof(double)) == 0);
+      CHECK(x->body == r.body);
+      CHECK(x->contacts == r.contacts);
+      CHECK(x->refined);
+    }
+  }
   omp_set_num_threads(2);
 }
 
