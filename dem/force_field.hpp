@@ -265,6 +265,13 @@ class ForceField {
   std::vector<WallPose> mask_poses_;    // the walls' poses when the masks were made
   std::vector<double> mask_margin_;     // and their margins (0: static)
   Vec3 mask_region_lo_, mask_region_hi_;  // box around the spheres (strays aside) then
+  // Each sphere's hint for each wall whose geometry uses one (WallGeometry::Hint): wall_hints_[i *
+  // hinted_walls_ + hint_index_[w]], hint_index_[w] -1 for a wall without. A hint is checked on use
+  // (the mesh's names its cell), but belongs to its wall's geometry: walls are only appended, so
+  // wall w keeps its geometry. Set to kNoHint at every list build by find_near_walls.
+  std::vector<WallGeometry::Hint> wall_hints_;
+  std::vector<int> hint_index_;
+  std::size_t hinted_walls_ = 0;
   /// at_build: the list was just built, so every sphere is where the list has it.
   void find_near_walls(const Particles& p, const std::vector<Wall>& walls, const NeighborList& nl, bool at_build);
   bool walls_where_found(const std::vector<Wall>& walls) const;

@@ -3,6 +3,7 @@
 // features touch this sphere?" in its own body frame, the pose carries points and velocities between
 // body and world frames, and a motion profile (dem/motion_profile.hpp) moves the pose each step. A
 // new geometry is one class implementing WallGeometry; a new motion one implementing MotionProfile.
+#include <cstdint>
 #include <memory>
 #include <string>
 
@@ -26,6 +27,19 @@ class WallGeometry {
   /// Append to `hits` (capacity `cap`) every feature whose distance to `p` is below `reach`;
   /// return how many were written. Must not double-count a contact shared by adjacent features.
   virtual int nearby(const Vec3& p, double reach, WallHit* hits, int cap) const = 0;
+
+  /// A sphere's note of its last query, which the caller keeps per sphere for the geometries that
+  /// use one (uses_hints()) and sets to kNoHint whenever the sphere's slot may hold another sphere.
+  /// With it a geometry may skip a lookup whose answer has not changed since (MeshGeometry: the
+  /// record of the cell the sphere is in, a load scattered over its grid, a third of its queries'
+  /// time in the platform box). The hits are the same with or without it.
+  using Hint = std::uint64_t;
+  static constexpr Hint kNoHint = ~Hint{0};
+  virtual bool uses_hints() const { return false; }
+  /// nearby(), reading and updating the sphere's hint.
+  virtual int nearby(const Vec3& p, double reach, WallHit* hits, int cap, Hint& /*hint*/) const {
+    return nearby(p, reach, hits, cap);
+  }
   /// Axis-aligned bounds in the body frame (used for domain checks and output).
   virtual void bounds(Vec3& lo, Vec3& hi) const = 0;
   virtual std::string describe() const = 0;
@@ -73,6 +87,10 @@ class Wall {
   /// min(cap, kMaxHits) hits in the wall's frame (contact() turns one into world terms).
   int hits(const Vec3& c, double r, WallHit* out, int cap) const {
     return geometry_->nearby(pose_.to_body(c), r, out, cap < kMaxHits ? cap : kMaxHits);
+  }
+  /// The same with the sphere's hint for this wall (WallGeometry::Hint).
+  int hits(const Vec3& c, double r, WallHit* out, int cap, WallGeometry::Hint& hint) const {
+    return geometry_->nearby(pose_.to_body(c), r, out, cap < kMaxHits ? cap : kMaxHits, hint);
   }
   /// Hit h of a sphere (centre c, radius r) as a contact in world coordinates.
   WallContact contact(const WallHit& h, const Vec3& c, double r) const {

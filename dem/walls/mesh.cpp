@@ -242,9 +242,19 @@ void MeshGeometry::build_bins(double cell_size) {
 }
 
 int MeshGeometry::nearby(const Vec3& p, double reach, WallHit* hits, int cap) const {
+  return query(p, reach, hits, cap, nullptr);
+}
+
+int MeshGeometry::nearby(const Vec3& p, double reach, WallHit* hits, int cap, Hint& hint) const {
+  return query(p, reach, hits, cap, &hint);
+}
+
+int MeshGeometry::query(const Vec3& p, double reach, WallHit* hits, int cap, Hint* hint) const {
   const double q[3] = {p.x - origin_.x, p.y - origin_.y, p.z - origin_.z};
   // Far from every triangle (header): nothing to test. Outside the grid the bound still holds for
   // the nearest grid cell, less the distance to the grid, which the cell test below handles.
+  // The record of p's cell: from the hint if p is in the cell it names (hint: cell << 32 | record).
+  std::uint32_t own_record = 0;
   {
     int c3[3];
     bool inside = true;
@@ -253,7 +263,14 @@ int MeshGeometry::nearby(const Vec3& p, double reach, WallHit* hits, int cap) co
       inside = inside && c3[k] >= 0 && c3[k] < dims_[k];
     }
     if (inside) {
-      const int d = static_cast<int>(cell_record_[(static_cast<std::size_t>(c3[0]) * dims_[1] + c3[1]) * dims_[2] + c3[2]] & 0xffu);
+      const std::size_t c = (static_cast<std::size_t>(c3[0]) * dims_[1] + c3[1]) * dims_[2] + c3[2];
+      if (hint != nullptr && *hint >> 32 == c) {
+        own_record = static_cast<std::uint32_t>(*hint);
+      } else {
+        own_record = cell_record_[c];
+        if (hint != nullptr) *hint = static_cast<Hint>(c) << 32 | own_record;
+      }
+      const int d = static_cast<int>(own_record & 0xffu);
       if ((d - 1) * cell_ > reach) return 0;
     }
   }
@@ -299,7 +316,7 @@ int MeshGeometry::nearby(const Vec3& p, double reach, WallHit* hits, int cap) co
     for (int j = lo[1]; j <= hi[1]; ++j)
       for (int k = lo[2]; k <= hi[2]; ++k) {
         const std::size_t c = (static_cast<std::size_t>(i) * dims_[1] + j) * dims_[2] + k;
-        const std::uint32_t list = cell_record_[c] >> 8;
+        const std::uint32_t list = (own_cell ? own_record : cell_record_[c]) >> 8;
         for (std::uint32_t m = list_start_[list]; m < list_start_[list + 1]; ++m) {
           const std::uint32_t t = list_tri_[m];
           bool dup = false;

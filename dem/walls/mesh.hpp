@@ -43,6 +43,11 @@ class MeshGeometry final : public WallGeometry {
   explicit MeshGeometry(TriangleMesh mesh, double cell_size = 0, std::string label = "mesh");
 
   int nearby(const Vec3& p, double reach, WallHit* hits, int cap) const override;
+  /// The hint holds the sphere's cell and that cell's record: a sphere that stays in its cell (most
+  /// steps: cells are millimetres, a step moves a sphere micrometres) reads its record from the hint,
+  /// which the caller streams in slot order, instead of from the grid.
+  bool uses_hints() const override { return true; }
+  int nearby(const Vec3& p, double reach, WallHit* hits, int cap, Hint& hint) const override;
   void bounds(Vec3& lo, Vec3& hi) const override;
   std::string describe() const override;
   /// A sphere moving between features of one mesh keeps its tangential history.
@@ -59,6 +64,7 @@ class MeshGeometry final : public WallGeometry {
  private:
   void build_topology();
   void build_bins(double cell_size);
+  int query(const Vec3& p, double reach, WallHit* hits, int cap, Hint* hint) const;
 
   TriangleMesh mesh_;
   std::string label_;

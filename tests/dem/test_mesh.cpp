@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <memory>
@@ -146,6 +147,43 @@ TEST_CASE("The triangle bins find exactly what a search over every triangle find
     }
   }
   CHECK(touching > 300);
+}
+
+TEST_CASE("A sphere's hint gives the same hits as a query without one, in its cell and after it leaves it",
+          "[dem][mesh]") {
+  // The hint holds the sphere's cell and that cell's record (dem/walls/mesh.hpp); each sphere walks
+  // through the pipe's grid in steps of a fifth of a cell, so it queries the same cell several times
+  // and crosses into others. Hits compared bit for bit; a hint left by another geometry of the same
+  // grid size must be of no consequence either (it names a cell and its record, checked on use).
+  const double cell = GENERATE(0.002, 0.007);
+  const MeshGeometry mesh(pipe_mesh(0.05, 0.3, 48), cell);
+  REQUIRE(mesh.uses_hints());
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(-1, 1);
+  int touching = 0, reused = 0, queries = 0;
+  for (int sphere = 0; sphere < 100; ++sphere) {
+    WallGeometry::Hint hint = WallGeometry::kNoHint;
+    Vec3 p{0.052 * u(rng), 0.052 * u(rng), 0.15 + 0.17 * u(rng)};
+    const Vec3 step = (0.2 * cell) * Vec3{u(rng), u(rng), u(rng)};
+    for (int k = 0; k < 60; ++k, p += step) {
+      WallHit a[16], b[16];
+      const WallGeometry::Hint before = hint;
+      const int na = mesh.nearby(p, 0.004, a, 16), nb = mesh.nearby(p, 0.004, b, 16, hint);
+      ++queries;
+      reused += hint == before;
+      REQUIRE(na == nb);
+      touching += na > 0;
+      for (int m = 0; m < na; ++m) {
+        CHECK(a[m].feature == b[m].feature);
+        CHECK(std::memcmp(&a[m].distance, &b[m].distance, sizeof(double)) == 0);
+        CHECK(std::memcmp(&a[m].normal, &b[m].normal, sizeof(Vec3)) == 0);
+      }
+    }
+  }
+  INFO(touching << " queries touching, " << reused << " of " << queries << " with the hint unchanged");
+  CHECK(touching > 300);
+  CHECK(reused > queries / 2);
+  CHECK(reused < queries - 100);
 }
 
 TEST_CASE("Cells that hold the same triangles share one stored list", "[dem][mesh]") {
