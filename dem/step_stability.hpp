@@ -103,7 +103,7 @@ class StepStabilityMonitor {
   std::vector<Mobility> mobility_;                       // per body, made at each check
   std::vector<double> omega2_, damping_rate_, margin_;  // per body, reused between calls
   std::vector<int> count_, suspect_;                    // suspect_[b]: index into springs_ or -1
-  std::vector<std::vector<Spring>> springs_;            // per suspect body (by body: [0], one at a time)
+  std::vector<std::vector<Spring>> springs_;            // per suspect (found by body: [0], one at a time)
   std::vector<std::uint32_t> entries_;                  // a suspect's neighbour-list entries, in order
   std::vector<std::uint32_t> order_;                    // the suspects, worst stage-1 bound first
   bool refine_from_every_contact_ = false, refine_every_suspect_ = false;

@@ -383,8 +383,9 @@ TEST_CASE("Stage 2 of the step-stability check: each suspect's contacts from its
   // every suspect's 6 x 6 eigenproblem solved):
   //  - each suspect's contacts come from its spheres' neighbour-list rows and reverse ranges, in the
   //    order of the walk over every contact: the same matrices, so the same margins bit for bit;
-  //  - a suspect whose Gershgorin bound on its margin is below the worst found so far is not solved:
-  //    its bound is above its margin, and the worst body is the same.
+  //  - a suspect whose bound on its margin (its stage-1 margin, or the Gershgorin bound of its 6 x 6
+  //    matrices) is below the worst found so far is not solved: the bound is above its margin, and
+  //    the worst body is the same.
   // The step is raised until most of the heap's bodies are suspects.
   const testing::ParallelEverything guard;
   omp_set_num_threads(1);
@@ -404,7 +405,7 @@ TEST_CASE("Stage 2 of the step-stability check: each suspect's contacts from its
   for (const double w2 : probe.omega2_bounds()) sure_suspects += std::sqrt(w2) * dt > 2 * StepStabilityMonitor::kRefineAbove;
   INFO("dt " << dt << " s, " << sure_suspects << " bodies surely suspects of " << m.size() << " touching");
   REQUIRE(sure_suspects > 40);
-  for (int threads : {1, 2}) {
+  for (int threads : {1, 2, 3}) {
     omp_set_num_threads(threads);
     StepStabilityMonitor fast, by_body, reference;
     by_body.use_reference_stage2(true, false);
