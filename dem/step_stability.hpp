@@ -59,8 +59,8 @@ class StepStabilityMonitor {
   /// Per body, the last assess()'s stage-1 bound on Omega^2 (0 for a body without contacts).
   const std::vector<double>& omega2_bounds() const { return omega2_; }
   /// Per body, the last assess()'s margin: the 6-dof mode's for the bodies refined in stage 2, for
-  /// the other suspects the bound that ruled them out (their 6 x 6 Gershgorin bound), the stage-1
-  /// bound's for the rest, 0 for a body without contacts.
+  /// the other suspects the bound that ruled them out (their 6 x 6 Gershgorin bound, or the stage-1
+  /// bound for those not reached), the stage-1 bound's for the rest, 0 for a body without contacts.
   const std::vector<double>& margins() const { return margin_; }
   /// How many suspects the last assess() solved the 6-dof eigenproblem of.
   std::size_t refined() const { return refined_; }
