@@ -184,8 +184,7 @@ void MeshGeometry::build_bins(double cell_size) {
         for (int k = lo[2]; k <= hi[2]; ++k) {
           const Vec3 centre = origin_ + Vec3{(i + 0.5) * cell_, (j + 0.5) * cell_, (k + 0.5) * cell_};
           if (norm(closest_on_triangle(centre, a, b, c).point - centre) > half_diag) continue;
-          cell_tri.push_back({static_cast<std::uint32_t>((static_cast<std::size_t>(i) * dims_[1] + j) * dims_[2] + k),
-                              static_cast<std::uint32_t>(t)});
+          cell_tri.push_back({static_cast<std::uint32_t>(cell_index(i, j, k)), static_cast<std::uint32_t>(t)});
         }
   }
   std::vector<std::uint32_t> bin_start, bin_tri;
@@ -205,7 +204,7 @@ void MeshGeometry::build_bins(double cell_size) {
       for (int a = std::max(i - 1, 0); a <= std::min(i + 1, dims_[0] - 1); ++a)
         for (int b = std::max(j - 1, 0); b <= std::min(j + 1, dims_[1] - 1); ++b)
           for (int e = std::max(k - 1, 0); e <= std::min(k + 1, dims_[2] - 1); ++e) {
-            const std::size_t n = (static_cast<std::size_t>(a) * dims_[1] + b) * dims_[2] + e;
+            const std::size_t n = cell_index(a, b, e);
             if (to_triangle[n] > d) to_triangle[n] = static_cast<std::uint8_t>(d), next.push_back(static_cast<std::uint32_t>(n));
           }
     }
@@ -254,41 +253,38 @@ int MeshGeometry::query(const Vec3& p, double reach, WallHit* hits, int cap, Hin
   // Far from every triangle (header): nothing to test. Outside the grid the bound still holds for
   // the nearest grid cell, less the distance to the grid, which the cell test below handles.
   // The record of p's cell: from the hint if p is in the cell it names (hint: cell << 32 | record).
+  int c3[3];
+  bool inside = true;
+  for (int k = 0; k < 3; ++k) {
+    c3[k] = static_cast<int>(std::floor(q[k] / cell_));
+    inside = inside && c3[k] >= 0 && c3[k] < dims_[k];
+  }
   std::uint32_t own_record = 0;
-  {
-    int c3[3];
-    bool inside = true;
-    for (int k = 0; k < 3; ++k) {
-      c3[k] = static_cast<int>(std::floor(q[k] / cell_));
-      inside = inside && c3[k] >= 0 && c3[k] < dims_[k];
+  if (inside) {
+    const std::size_t c = cell_index(c3[0], c3[1], c3[2]);
+    if (hint != nullptr && *hint >> 32 == c) {
+      own_record = static_cast<std::uint32_t>(*hint);
+    } else {
+      own_record = cell_record_[c];
+      if (hint != nullptr) *hint = static_cast<Hint>(c) << 32 | own_record;
     }
-    if (inside) {
-      const std::size_t c = (static_cast<std::size_t>(c3[0]) * dims_[1] + c3[1]) * dims_[2] + c3[2];
-      if (hint != nullptr && *hint >> 32 == c) {
-        own_record = static_cast<std::uint32_t>(*hint);
-      } else {
-        own_record = cell_record_[c];
-        if (hint != nullptr) *hint = static_cast<Hint>(c) << 32 | own_record;
-      }
-      const int d = static_cast<int>(own_record & 0xffu);
-      if ((d - 1) * cell_ > reach) return 0;
-    }
+    const int d = static_cast<int>(own_record & 0xffu);
+    if ((d - 1) * cell_ > reach) return 0;
   }
   // Cells overlapping the query box [p - reach, p + reach]; only p's own cell if it lies in the grid
   // and reach <= reach_ (its bin holds every triangle that close).
   int lo[3], hi[3];
-  bool own_cell = reach <= reach_;
+  const bool own_cell = inside && reach <= reach_;
   for (int k = 0; k < 3; ++k) {
-    const int c = static_cast<int>(std::floor(q[k] / cell_));
-    own_cell = own_cell && c >= 0 && c < dims_[k];
+    if (own_cell) {
+      lo[k] = hi[k] = c3[k];
+      continue;
+    }
     lo[k] = static_cast<int>(std::floor((q[k] - reach) / cell_));
     hi[k] = static_cast<int>(std::floor((q[k] + reach) / cell_));
     if (hi[k] < 0 || lo[k] >= dims_[k]) return 0;
     lo[k] = std::max(lo[k], 0);
     hi[k] = std::min(hi[k], dims_[k] - 1);
-  }
-  if (own_cell) {
-    for (int k = 0; k < 3; ++k) lo[k] = hi[k] = static_cast<int>(std::floor(q[k] / cell_));
   }
 
   enum Kind : std::uint8_t { kFaceHit, kEdgeHit, kVertexHit };
@@ -315,8 +311,7 @@ int MeshGeometry::query(const Vec3& p, double reach, WallHit* hits, int cap, Hin
   for (int i = lo[0]; i <= hi[0]; ++i)
     for (int j = lo[1]; j <= hi[1]; ++j)
       for (int k = lo[2]; k <= hi[2]; ++k) {
-        const std::size_t c = (static_cast<std::size_t>(i) * dims_[1] + j) * dims_[2] + k;
-        const std::uint32_t list = (own_cell ? own_record : cell_record_[c]) >> 8;
+        const std::uint32_t list = (own_cell ? own_record : cell_record_[cell_index(i, j, k)]) >> 8;
         for (std::uint32_t m = list_start_[list]; m < list_start_[list + 1]; ++m) {
           const std::uint32_t t = list_tri_[m];
           bool dup = false;

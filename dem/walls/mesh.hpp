@@ -65,6 +65,10 @@ class MeshGeometry final : public WallGeometry {
   void build_topology();
   void build_bins(double cell_size);
   int query(const Vec3& p, double reach, WallHit* hits, int cap, Hint* hint) const;
+  /// Cell (i, j, k)'s index in cell_record_.
+  std::size_t cell_index(int i, int j, int k) const {
+    return (static_cast<std::size_t>(i) * dims_[1] + j) * dims_[2] + k;
+  }
 
   TriangleMesh mesh_;
   std::string label_;
