@@ -153,8 +153,8 @@ TEST_CASE("A sphere's hint gives the same hits as a query without one, in its ce
           "[dem][mesh]") {
   // The hint holds the sphere's cell and that cell's record (dem/walls/mesh.hpp); each sphere walks
   // through the pipe's grid in steps of a fifth of a cell, so it queries the same cell several times
-  // and crosses into others. Hits compared bit for bit; a hint left by another geometry of the same
-  // grid size must be of no consequence either (it names a cell and its record, checked on use).
+  // and crosses into others. Hits compared bit for bit. (A hint belongs to its geometry: it names a
+  // cell, not the grid, so the force field keeps one per sphere and wall.)
   const double cell = GENERATE(0.002, 0.007);
   const MeshGeometry mesh(pipe_mesh(0.05, 0.3, 48), cell);
   REQUIRE(mesh.uses_hints());
