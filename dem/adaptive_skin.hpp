@@ -13,34 +13,51 @@
 //     and 40 to 160 within 5 %; since builds scan once, 40 and 160 are level).
 // A bed shaken slowly moves far less than a skin of 0.2 r_max per few dozen steps, so a fixed skin
 // sized for pouring wastes most of the distance tests. The skin is therefore sized so that the list
-// lasts about kSteps steps at the fastest sphere's present speed:
-//   skin = clamp(2 kSteps v_max dt, kMinFraction skin_max, skin_max),
+// lasts about kSteps steps at the present speed:
+//   skin(v) = clamp(2 kSteps v dt, kMinFraction skin_max, skin_max),
 // skin_max = 0.2 r_max (the fixed skin grainscale used before; cells stay no wider than they were).
-// A list that is never stale (a bed come to rest) would keep the skin of its build for ever, so
-// every kCheckEvery steps (counted from the start: restarts see the same steps) the skin is chosen
-// again, and the list rebuilt if the new skin is under half the old one.
+// Each sphere gets a skin of its own (the list's rule for that: dem/neighbor_list.hpp):
+//   - the common skin, skin(v_c), where v_c is the speed all but the fastest kFastShare of the
+//     spheres keep under, for every sphere up to v_c;
+//   - skin(v_i) for a sphere faster than v_c, and the same for every sphere in its own and the
+//     adjacent cells (the ones it may strike before the next build: a sphere struck from rest would
+//     otherwise outrun the common skin within a few steps; in the bed below 25 builds in 600 steps
+//     instead of 20).
+// So a few fast spheres no longer thicken every sphere's list. A bed that has come to rest still
+// has some (the 10^5-sphere bed of bench/run_scaling.sh after 0.8 s: the median sphere at 0.08 mm/s,
+// a few rolling over the surface at 0.1-0.2 m/s); under one skin for all, the fastest set the skin
+// at skin_max: 2.82 list entries per sphere against 1.99 with skins of their own (1.79 contacts),
+// and each step 11-15 % slower (docs/performance.md). And a larger bed has a faster outlier, so one
+// skin for all made the cost per sphere grow with N. Where even the fastest sphere's skin is the
+// floor, all share it, and the list is the same bit for bit as under one skin.
+// A list that is never stale (a bed come to rest) would keep the skins of its build for ever, so
+// every kCheckEvery steps (counted from the start: restarts see the same steps) the common skin is
+// chosen again, and the list rebuilt if it is under half the build's.
 // The choice affects cost only, never which contacts are found: the list is rebuilt whenever a
-// sphere has moved half the skin of its build, whatever that skin was. It depends only on the state
+// sphere has moved half its skin of the build, whatever that skin was. It depends only on the state
 // at the build (no timers, no thread count), so runs stay reproducible bit for bit, checkpoints included.
 #include <algorithm>
 
 namespace grainscale::dem {
 
 struct AdaptiveSkin {
-  /// Steps a list should last at the fastest sphere's speed at its build.
+  /// Steps a list should last at a sphere's speed at its build.
   static constexpr double kSteps = 40;
   /// Smallest skin, as a fraction of skin_max: a bed at rest still needs a list that lasts.
   static constexpr double kMinFraction = 1.0 / 32;
 
+  /// The share of the spheres, the fastest, that get a skin of their own (see above).
+  static constexpr double kFastShare = 0.01;
+
   /// Steps between checks whether a list still valid should be rebuilt with a smaller skin.
   static constexpr unsigned kCheckEvery = 100;
 
-  /// The skin for a build, given the fastest (non-stray) sphere's speed v_max (m/s), the time step
+  /// The skin for a build of a sphere of speed v (m/s; for the common skin v_c), given the time step
   /// dt (s) and the largest skin allowed (m).
-  static double choose(double v_max, double dt, double skin_max) {
-    return std::clamp(2.0 * kSteps * v_max * dt, kMinFraction * skin_max, skin_max);
+  static double choose(double v, double dt, double skin_max) {
+    return std::clamp(2.0 * kSteps * v * dt, kMinFraction * skin_max, skin_max);
   }
-  /// Worth a build before the list is stale?
+  /// Worth a build before the list is stale? (The common skins, of the build and chosen now.)
   static bool shrink(double skin_now, double skin_chosen) { return skin_chosen < 0.5 * skin_now; }
 };
 

@@ -454,6 +454,7 @@ void write_state(ImageWriter& w, const Simulation& sim) {
   w.dataset("/neighbors/start", nl.starts());
   w.dataset("/neighbors/partner", nl.partners());
   w.dataset("/neighbors/history", nl.histories());
+  if (!nl.skins().empty()) w.dataset("/neighbors/skin", nl.skins());
 
   // Only the wall-contact slots in use (the others are never read).
   const ForceField& ff = sim.force_field();
@@ -646,6 +647,10 @@ Checkpoint read_checkpoint(const std::string& path) {
     s.neighbor_start = r.dataset<std::uint32_t>("/neighbors/start");
     s.neighbor_partner = r.dataset<std::uint32_t>("/neighbors/partner");
     s.neighbor_history = r.dataset<ContactHistory>("/neighbors/history", s.neighbor_partner.size());
+    // (Files written before 2026-12-06 have none: one skin for all, the attribute's.)
+    if (r.has("/neighbors/skin") && !s.neighbor_start.empty()) {
+      s.neighbor_skin = r.dataset<double>("/neighbors/skin", s.neighbor_start.size() - 1);
+    }
 
     s.wall_count = r.dataset<std::uint8_t>("/wall_contacts/count");
     const std::vector<std::int32_t> wall = r.dataset<std::int32_t>("/wall_contacts/wall");

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cassert>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -115,8 +116,52 @@ const std::vector<std::uint32_t>& NeighborList::sort_by_cell(const Particles& p,
 }
 
 void NeighborList::build(Particles& p, double skin, const std::vector<std::uint32_t>& new_to_old) {
+  skins_.clear();
+  skin_ = smallest_skin_ = skin;
+  build_rows(p, new_to_old);
+}
+
+void NeighborList::build(Particles& p, const std::vector<double>& skins, const std::vector<std::uint32_t>& new_to_old) {
+  assert(skins.size() == p.size());
+  double lo = std::numeric_limits<double>::infinity(), hi = 0;
+  for (const double s : skins) lo = std::min(lo, s), hi = std::max(hi, s);
+  if (skins.empty()) lo = 0;
+  skin_ = hi, smallest_skin_ = lo;
+  // One skin for all: the list and its slack are those of build(p, skin) bit for bit.
+  if (lo == hi) {
+    skins_.clear();
+  } else {
+    skins_.assign(skins.begin(), skins.end());
+  }
+  build_rows(p, new_to_old);
+}
+
+void NeighborList::spread_to_adjacent_cells(const Particles& p, const std::vector<double>& own, double floor,
+                                            std::vector<double>& out) const {
+  // Serial: only the particles above the floor spread (a few in a bed at rest; dem/adaptive_skin.hpp
+  // keeps them to about one in a hundred), each over its 27 cells. max() in any order: the same result.
   const std::size_t n = p.size();
-  skin_ = skin;
+  assert(own.size() == n && cell_start_.size() == static_cast<std::size_t>(n_[0]) * n_[1] * n_[2] + 1);
+  out.assign(own.begin(), own.end());
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!(own[i] > floor)) continue;
+    const int c = cell_of(p.x[i]);
+    const int i0 = c % n_[0], i1 = (c / n_[0]) % n_[1], i2 = c / (n_[0] * n_[1]);
+    for (int s = std::max(i2 - 1, 0); s <= std::min(i2 + 1, n_[2] - 1); ++s)
+      for (int m = std::max(i1 - 1, 0); m <= std::min(i1 + 1, n_[1] - 1); ++m) {
+        const int row = (s * n_[1] + m) * n_[0];
+        const std::uint32_t j1 = cell_start_[row + std::min(i0 + 1, n_[0] - 1) + 1];
+        for (std::uint32_t j = cell_start_[row + std::max(i0 - 1, 0)]; j < j1; ++j) out[j] = std::max(out[j], own[i]);
+      }
+  }
+}
+
+void NeighborList::build_rows(Particles& p, const std::vector<std::uint32_t>& new_to_old) {
+  const std::size_t n = p.size();
+  const double skin = skin_;
+  const double* own = skins_.empty() ? nullptr : skins_.data();
+  // The pair search below looks no further than the adjacent cells.
+  assert(cell_ >= 2 * bounds_.r_max + skin || n == 0);
   start_.swap(old_start_);
   partner_.swap(old_partner_);
   shear_.swap(old_shear_);
@@ -140,7 +185,8 @@ void NeighborList::build(Particles& p, double skin, const std::vector<std::uint3
         const std::uint32_t j1 = cell_start_[row + std::min(i0 + 1, n_[0] - 1) + 1];
         for (std::uint32_t j = j0; j < j1; ++j) {
           if (p.body[j] == p.body[i]) continue;  // no contacts inside a body
-          const double cut = p.radius[i] + p.radius[j] + skin;
+          // (One skin for all: the sum as it always was, so such a list is the same bit for bit.)
+          const double cut = own ? p.radius[i] + p.radius[j] + 0.5 * (own[i] + own[j]) : p.radius[i] + p.radius[j] + skin;
           if (norm2(p.x[j] - xi) < cut * cut) visit(j);
         }
       }
@@ -220,11 +266,18 @@ void NeighborList::assign_stray_slack(const Particles& p, std::size_t n, const G
   // gap_i >= skin). stale() sees d_i² − slack2_i with slack2_i = allow_i² − skin²/4, so the others'
   // test is unchanged bit for bit. Only particles outside the gridded core (strays, sort_by_cell)
   // are candidates; the particles inside the core box are at least the distance to the box away.
+  // With a skin per particle (skin the largest), a particle of skin s_i that is not a stray may move
+  // allow_i = s_i/2 (slack2_i <= 0), and a stray allow_i = gap_i/2 where gap_i >= skin: then
+  // gap_i/2 + s_j/2 <= gap_i <= gap_ij for any j, and s_i/2 + s_j/2 <= gap_ij for a pair not listed.
+  const double half = 0.5 * skin_;
   slack2_.clear();
+  if (!skins_.empty()) {
+    slack2_.resize(n);
+    for (std::size_t i = 0; i < n; ++i) slack2_[i] = 0.25 * skins_[i] * skins_[i] - half * half;
+  }
   if (!b.trimmed) return;
   outside_.clear();
   candidates_.clear();
-  const double half = 0.5 * skin_;
   for (std::size_t i = 0; i < n; ++i) {
     const double d2 = b.distance2(p.x_at_build[i]);
     if (d2 == 0) continue;
@@ -235,7 +288,7 @@ void NeighborList::assign_stray_slack(const Particles& p, std::size_t n, const G
   // Beyond a few dozen the edge of a wide bed, not strays, is outside the core: no slack (the cost
   // below is candidates x outside).
   if (candidates_.empty() || candidates_.size() > kMaxStrays) return;
-  slack2_.assign(n, 0.0);
+  if (slack2_.empty()) slack2_.assign(n, 0.0);
   for (const std::uint32_t i : candidates_) {
     const Vec3& x = p.x_at_build[i];
     double gap = std::sqrt(b.distance2(x)) - p.radius[i] - b.r_max;
@@ -243,7 +296,8 @@ void NeighborList::assign_stray_slack(const Particles& p, std::size_t n, const G
       if (j == i || p.body[j] == p.body[i]) continue;
       gap = std::min(gap, std::sqrt(norm2(p.x_at_build[j] - x)) - p.radius[i] - p.radius[j]);
     }
-    const double allow = std::max(half, 0.5 * gap);
+    const double own_half = skins_.empty() ? half : 0.5 * skins_[i];
+    const double allow = gap >= skin_ ? std::max(half, 0.5 * gap) : own_half;
     slack2_[i] = allow * allow - half * half;
   }
 }
@@ -274,7 +328,7 @@ void NeighborList::index_partners(std::size_t n) {
   reach_[n] = reach;
 }
 
-void NeighborList::restore(const Particles& p, double skin, std::vector<std::uint32_t> start,
+void NeighborList::restore(const Particles& p, double skin, std::vector<double> skins, std::vector<std::uint32_t> start,
                            std::vector<std::uint32_t> partner, const std::vector<ContactHistory>& history,
                            std::size_t builds) {
   // The invariants build() guarantees and the force loop relies on (no bounds checks there). The list
@@ -302,6 +356,17 @@ void NeighborList::restore(const Particles& p, double skin, std::vector<std::uin
     }
   }
   if (!(skin >= 0) || !std::isfinite(skin)) bad("skin must be finite and non-negative");
+  if (!skins.empty() && skins.size() != n) {
+    bad(std::to_string(skins.size()) + " per-particle skins for " + std::to_string(n) + " rows (expected one per row, or none)");
+  }
+  double smallest = skin;
+  for (std::size_t i = 0; i < skins.size(); ++i) {
+    if (!(skins[i] >= 0 && skins[i] <= skin)) {
+      bad("the skin of slot " + std::to_string(i) + " is " + std::to_string(skins[i]) +
+          " m; each must lie in [0, " + std::to_string(skin) + "] m (the list's largest skin)");
+    }
+    smallest = std::min(smallest, skins[i]);
+  }
   // Every pair under its smaller slot, its history seen from there: a list keyed on slot, as build()
   // makes it, comes out as it went in (a restart continues bit for bit); one of a checkpoint written
   // before 2026-12-05, keyed on id, is re-keyed, a history negated where its pair changes owner.
@@ -324,6 +389,9 @@ void NeighborList::restore(const Particles& p, double skin, std::vector<std::uin
       if (rolling_springs_) rolling_[e] = flip ? -history[k].rolling : history[k].rolling;
     }
   skin_ = skin;
+  smallest_skin_ = smallest;
+  skins_.clear();
+  if (smallest < skin) skins_ = std::move(skins);
   builds_ = builds;
   ++generation_;
   index_partners(n);
@@ -338,7 +406,7 @@ std::size_t NeighborList::bytes() const {
                       rev_start_.capacity() + rev_entry_.capacity() + rev_position_.capacity() + rev_fill_.capacity() +
                       owner_.capacity() + rev_owner_.capacity() + reach_.capacity();
   for (const auto& t : thread_partners_) words += t.capacity();
-  return words * 4 +
+  return words * 4 + (skins_.capacity() + slack2_.capacity()) * sizeof(double) +
          (shear_.capacity() + rolling_.capacity() + old_shear_.capacity() + old_rolling_.capacity()) * sizeof(Vec3);
 }
 

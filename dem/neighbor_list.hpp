@@ -18,7 +18,12 @@
 // * Strays (grains thrown out of an open container, falling away) do not stretch the grid: when the
 //   bounding box would need more than 8 cells per particle, the grid covers the 1st-99th percentile
 //   of the positions on each axis and the rest fall into its edge cells; the list stays exact.
-// * It stays valid until some particle has moved more than skin/2 since the build; a stray far from
+// * Each particle may have a skin of its own, s_i (the adaptive skin gives the few fast particles
+//   of a bed at rest thicker ones: dem/adaptive_skin.hpp): pair {a, b} is listed if
+//   |x_a - x_b| < r_a + r_b + (s_a + s_b)/2, and the list stays exact while every particle has moved
+//   less than its own s_i/2 since the build (a pair not listed was (s_a + s_b)/2 beyond touching, and
+//   its gap has closed by at most the two displacements). With one skin for all this is the usual
+//   rule: pairs within r_a + r_b + skin, valid until some particle has moved skin/2. A stray far from
 //   everything may move further (its slack, assign_stray_slack), so one falling away from an open
 //   container does not force a build every step.
 // * Each entry carries the contact history; a rebuild carries histories over to the new entries.
@@ -46,8 +51,18 @@ class NeighborList {
 
   /// Build the list for particles already renumbered by sort_by_cell()'s order; `new_to_old` maps the
   /// new slots to the slots of the previous build so histories can be carried over. Particles appended
-  /// since the previous build (slots beyond its count) start without history.
+  /// since the previous build (slots beyond its count) start without history. One skin for all
+  /// (it must not exceed the skin the cells were sorted for).
   void build(Particles& p, double skin, const std::vector<std::uint32_t>& new_to_old);
+  /// The same with a skin per particle, in the new slot order (p.size() of them, each finite, >= 0
+  /// and at most the skin the cells were sorted for).
+  void build(Particles& p, const std::vector<double>& skins, const std::vector<std::uint32_t>& new_to_old);
+  /// For every particle (new slot order, after sort_by_cell): the largest of `own` over the particles
+  /// of its own cell and the adjacent ones, into `out` (both p.size(); `floor`: the smallest value
+  /// of `own`, which most particles hold: only those above it are spread). A particle about to be
+  /// struck by a fast neighbour then gets the neighbour's skin (dem/adaptive_skin.hpp).
+  void spread_to_adjacent_cells(const Particles& p, const std::vector<double>& own, double floor,
+                                std::vector<double>& out) const;
 
   /// True once some particle has moved more than skin/2 since the last build, given the largest
   /// squared displacement since the build (computed by the caller inside its drift loop), or if the
@@ -57,7 +72,8 @@ class NeighborList {
     return start_.size() != p.size() + 1 || max_displacement2 > 0.25 * skin_ * skin_;
   }
   /// Per slot of the last build: how much more than skin²/4 particle i's squared displacement may
-  /// grow before the list is stale (a stray's slack, else 0). Empty when no particle has any.
+  /// grow before the list is stale: s_i²/4 - skin²/4 (<= 0) for a particle of a thinner skin than the
+  /// largest, more for a stray (its slack). Empty when every particle's is 0.
   const std::vector<double>& slack2() const { return slack2_; }
 
   std::uint32_t begin(std::size_t i) const { return start_[i]; }
@@ -94,7 +110,12 @@ class NeighborList {
   /// Changes whenever the entries change (build or restore); never saved. Lets per-entry data kept
   /// elsewhere (the force field's contact flags) know when to rebuild itself.
   std::uint64_t generation() const { return generation_; }
+  /// The largest skin of the last build (the only one when all particles share it).
   double skin() const { return skin_; }
+  /// The smallest skin of the last build (the skin most particles of a bed at rest hold).
+  double smallest_skin() const { return smallest_skin_; }
+  /// Per slot of the last build, each particle's skin; empty when all share skin().
+  const std::vector<double>& skins() const { return skins_; }
   /// Edge of the cells of the last sort_by_cell (2 r_max + skin unless a sparse cloud widened them).
   double cell_size() const { return cell_; }
 
@@ -117,8 +138,10 @@ class NeighborList {
   /// histories over exactly as it would have from the original list. A list keyed on id (saved
   /// before 2026-12-05) is re-keyed on slot, histories negated where a pair changes owner. Throws
   /// std::invalid_argument (nothing changed) if the arrays are not a valid half list for `p`.
-  void restore(const Particles& p, double skin, std::vector<std::uint32_t> start, std::vector<std::uint32_t> partner,
-               const std::vector<ContactHistory>& history, std::size_t builds);
+  /// `skins`: the per-particle skins of skins() (empty: all `skin`; else one per row of the list, each
+  /// finite, >= 0 and at most `skin`).
+  void restore(const Particles& p, double skin, std::vector<double> skins, std::vector<std::uint32_t> start,
+               std::vector<std::uint32_t> partner, const std::vector<ContactHistory>& history, std::size_t builds);
   /// Bytes held by the list (for memory reports).
   std::size_t bytes() const;
 
@@ -148,6 +171,8 @@ class NeighborList {
   static constexpr std::size_t kMaxStrays = 64;
   GridBounds grid_bounds(const std::vector<Vec3>& x, const std::vector<double>& radius, std::size_t n, double skin);
   void assign_stray_slack(const Particles& p, std::size_t n, const GridBounds& b);
+  /// build()'s work once skin_, smallest_skin_ and skins_ are set.
+  void build_rows(Particles& p, const std::vector<std::uint32_t>& new_to_old);
   int cell_of(const Vec3& x) const;
   void index_partners(std::size_t n);
 
@@ -174,7 +199,8 @@ class NeighborList {
   std::vector<std::uint32_t> owner_;      // per entry: its row (the force loop walks entries, not rows)
   std::vector<std::uint32_t> rev_owner_;  // per reverse position: its particle
   std::vector<std::uint32_t> reach_;      // per slot, and one past the last: see reach_before()
-  double skin_ = 0;
+  double skin_ = 0, smallest_skin_ = 0;
+  std::vector<double> skins_;  // per slot; empty: all skin_
   std::size_t builds_ = 0;
   std::uint64_t generation_ = 0;
 };

@@ -179,7 +179,7 @@ void Simulation::setup() {
   forces_.setup(materials_, walls_, settings_.rolling);
   for (Wall& w : walls_) w.move_to(time_);
   move_spheres_with_bodies();
-  rebuild(choose_skin());
+  rebuild();
   compute_forces(0);
   ready_ = true;
 }
@@ -310,7 +310,7 @@ void Simulation::restore(SimulationState&& s) {
   }
   // Validate the neighbour list and wall contacts in scratch objects before touching ours.
   NeighborList nl;
-  nl.restore(p, s.skin, std::move(s.neighbor_start), std::move(s.neighbor_partner), std::move(s.neighbor_history),
+  nl.restore(p, s.skin, std::move(s.neighbor_skin), std::move(s.neighbor_start), std::move(s.neighbor_partner), std::move(s.neighbor_history),
              s.neighbor_builds);
   ForceField ff;
   ff.restore_wall_contacts(s.wall_count, s.wall_slots, walls_.size());
@@ -341,24 +341,55 @@ void Simulation::restore(SimulationState&& s) {
   ready_ = true;
 }
 
-double Simulation::choose_skin() const {
-  if (settings_.skin > 0) return settings_.skin;
-  // The fastest sphere's speed, strays with slack left out (they may outrun the skin anyway,
-  // NeighborList::slack2), and the largest radius present for the default bound.
+Simulation::SkinChoice Simulation::choose_skins() const {
   const Particles& p = particles_;
   const std::size_t n = p.size();
+  if (settings_.skin > 0) {
+    own_skin_.assign(n, settings_.skin);
+    return {settings_.skin, settings_.skin};
+  }
+  // Each sphere's speed (strays with slack left out: they may outrun the skin anyway,
+  // NeighborList::slack2; -1 marks them), and the largest radius present for the default bound.
   const double* slack = neighbors_.slack2().data();
   const std::size_t slack_n = neighbors_.slack2().size();
+  speed2_.resize(n);
   double v2_max = 0, r_max = 0;
 #pragma omp parallel for if(n >= parallel_min_items()) schedule(static) reduction(max : v2_max, r_max)
   for (std::size_t s = 0; s < n; ++s) {
     r_max = std::max(r_max, p.radius[s]);
-    if (s < slack_n && slack[s] > 0) continue;
-    v2_max = std::max(v2_max, norm2(p.v[s]));
+    const bool stray = s < slack_n && slack[s] > 0;
+    speed2_[s] = stray ? -1.0 : norm2(p.v[s]);
+    v2_max = std::max(v2_max, speed2_[s]);
   }
   const double skin_max = settings_.skin_max > 0 ? settings_.skin_max : 0.2 * r_max;
   // (A blown-up state's velocities may not be finite: keep to the bound, the sort reports it.)
-  return std::isfinite(v2_max) ? AdaptiveSkin::choose(std::sqrt(v2_max), dt_, skin_max) : skin_max;
+  if (!std::isfinite(v2_max)) {
+    own_skin_.assign(n, skin_max);
+    return {skin_max, skin_max};
+  }
+  // The common skin follows the speed that all but the fastest AdaptiveSkin::kFastShare of the
+  // spheres keep under; those faster get their own (the same bits as one skin for all where even the
+  // fastest's skin is the floor).
+  skin_scratch_.clear();
+  for (std::size_t s = 0; s < n; ++s) {
+    if (speed2_[s] >= 0) skin_scratch_.push_back(speed2_[s]);
+  }
+  double v2_common = 0;
+  if (!skin_scratch_.empty()) {
+    const std::size_t m = skin_scratch_.size();
+    const auto k = static_cast<std::ptrdiff_t>(m - 1 - static_cast<std::size_t>(AdaptiveSkin::kFastShare * static_cast<double>(m - 1)));
+    std::nth_element(skin_scratch_.begin(), skin_scratch_.begin() + k, skin_scratch_.end());
+    v2_common = skin_scratch_[static_cast<std::size_t>(k)];
+  }
+  const double common = AdaptiveSkin::choose(std::sqrt(v2_common), dt_, skin_max);
+  own_skin_.resize(n);
+  double largest = common;
+#pragma omp parallel for if(n >= parallel_min_items()) schedule(static) reduction(max : largest)
+  for (std::size_t s = 0; s < n; ++s) {
+    own_skin_[s] = speed2_[s] > v2_common ? AdaptiveSkin::choose(std::sqrt(speed2_[s]), dt_, skin_max) : common;
+    largest = std::max(largest, own_skin_[s]);
+  }
+  return {common, largest};
 }
 
 bool Simulation::skin_check_due() const {
@@ -367,16 +398,17 @@ bool Simulation::skin_check_due() const {
   return settings_.skin > 0 ? skin_ != settings_.skin : steps_ % AdaptiveSkin::kCheckEvery == 0;
 }
 
-double Simulation::early_rebuild_skin() const {
-  if (!skin_check_due()) return 0;
-  if (settings_.skin > 0) return settings_.skin;
-  const double chosen = choose_skin();
-  return AdaptiveSkin::shrink(skin_, chosen) ? chosen : 0;
+bool Simulation::early_rebuild_due() const {
+  if (!skin_check_due()) return false;
+  if (settings_.skin > 0) return true;
+  // The common skin is what most spheres' entries cost (the few faster ones keep theirs to the build).
+  return AdaptiveSkin::shrink(neighbors_.smallest_skin(), choose_skins().common);
 }
 
-void Simulation::rebuild(double skin) {
+void Simulation::rebuild() {
   forces_.resize(particles_.size());  // wall-contact slots for particles added since the last build
-  skin_ = skin;
+  const SkinChoice skins = choose_skins();  // own_skin_, in the present slot order
+  skin_ = skins.largest;
   const std::vector<std::uint32_t>* sorted = nullptr;
   try {
     sorted = &neighbors_.sort_by_cell(particles_, skin_);
@@ -389,7 +421,17 @@ void Simulation::rebuild(double skin) {
   particles_.permute(order);
   forces_.permute(order);
   renumber_bodies();
-  neighbors_.build(particles_, skin_, order);
+  if (skins.common == skins.largest) {
+    neighbors_.build(particles_, skin_, order);
+  } else {
+    // The spheres of a skin of their own, in the new order, and the neighbours they may strike
+    // before the next build given it too (dem/adaptive_skin.hpp).
+    const std::size_t n = particles_.size();
+    skin_scratch_.resize(n);
+    for (std::size_t k = 0; k < n; ++k) skin_scratch_[k] = own_skin_[order[k]];
+    neighbors_.spread_to_adjacent_cells(particles_, skin_scratch_, skins.common, own_skin_);
+    neighbors_.build(particles_, own_skin_, order);
+  }
   index_spheres_by_body();
 }
 
@@ -879,11 +921,7 @@ bool Simulation::drifted(int team) {
 
 void Simulation::finish_step() {
   // The rest of a step after its drift, outside a region: a list build if due, the forces and sums.
-  if (neighbors_.stale(particles_, moved2_)) {
-    rebuild(choose_skin());
-  } else if (const double skin = early_rebuild_skin(); skin > 0) {
-    rebuild(skin);
-  }
+  if (neighbors_.stale(particles_, moved2_) || early_rebuild_due()) rebuild();
   compute_forces(0.5 * dt_);  // and the bodies' sums with the second half kick; the health check
   if (stability_due()) check_stability();
 }

@@ -69,6 +69,7 @@ struct SimulationState {
   std::vector<std::string> shape_names;
   std::vector<std::uint32_t> neighbor_start, neighbor_partner;  // NeighborList::starts(), partners()
   std::vector<ContactHistory> neighbor_history;
+  std::vector<double> neighbor_skin;      // NeighborList::skins() (empty: all `skin`)
   std::vector<std::uint8_t> wall_count;   // per slot: wall contacts in use
   std::vector<WallSlot> wall_slots;       // those contacts, slot by slot (sum of wall_count)
   ForceDiagnostics diagnostics;           // of the last force computation
@@ -150,10 +151,16 @@ class Simulation {
 
  private:
   void check_pairs_in_use(const Particles& p) const;
-  void rebuild(double skin);
-  double choose_skin() const;
-  double early_rebuild_skin() const;  // the skin of a build due before the list is stale; 0: none
-  bool skin_check_due() const;        // whether early_rebuild_skin may find one this step
+  /// A neighbour-list build with the skins chosen now (choose_skins).
+  void rebuild();
+  /// The skins for a build (dem/adaptive_skin.hpp): each sphere's own, in the present slot order,
+  /// into own_skin_ (a fixed time.skin: that for all). Returns the common one and the largest.
+  struct SkinChoice {
+    double common = 0, largest = 0;
+  };
+  SkinChoice choose_skins() const;
+  bool early_rebuild_due() const;  // a build due before the list is stale (a thinner skin)
+  bool skin_check_due() const;     // whether early_rebuild_due may find one this step
   /// Forces, then the bodies' sums (with a half kick if > 0) in the same region; then the health check.
   void compute_forces(double half_kick);
   void check_health();
@@ -222,6 +229,9 @@ class Simulation {
   double time_ = 0, dt_ = 0, skin_ = 0;
   std::uint64_t steps_ = 0, next_sphere_id_ = 0;
   double moved2_ = 0;  // largest squared sphere displacement since the last neighbour build
+  // Scratch of choose_skins and rebuild (per sphere): the skins chosen, their speeds squared, the
+  // skins in the new slot order.
+  mutable std::vector<double> own_skin_, speed2_, skin_scratch_;
   std::vector<std::uint32_t> body_fill_;  // scratch for index_spheres_by_body
   TeamSignals step_signals_;  // a step's waits: bodies that cross a cut (drift_part), the meets (steps_in_region)
   struct alignas(64) ThreadValue {

@@ -301,7 +301,7 @@ TEST_CASE("A list saved keyed on id is restored keyed on slot, each history seen
     }
   REQUIRE(moved > 100);  // many pairs have their smaller id at the larger slot
   NeighborList restored;
-  restored.restore(p, skin, start, partner, history, 1);
+  restored.restore(p, skin, {}, start, partner, history, 1);
   REQUIRE(restored.entries() == nl.entries());
   REQUIRE(restored.starts() == nl.starts());  // every row holds the same pairs
   for (std::size_t i = 0; i < n; ++i)
@@ -317,5 +317,5 @@ TEST_CASE("A list saved keyed on id is restored keyed on slot, each history seen
   // A list keyed on neither (a pair of one particle with itself) is refused.
   partner[0] = static_cast<std::uint32_t>(std::upper_bound(start.begin(), start.end(), 0u) - start.begin() - 1);
   NeighborList refused;
-  CHECK_THROWS_AS(refused.restore(p, skin, start, partner, history, 1), std::invalid_argument);
+  CHECK_THROWS_AS(refused.restore(p, skin, {}, start, partner, history, 1), std::invalid_argument);
 }
