@@ -3,6 +3,8 @@
 // while the skin changes (contacts against an O(N^2) search), and that a fixed time.skin is kept.
 #include <omp.h>
 
+#include <algorithm>
+
 #include <catch2/catch.hpp>
 
 #include "barley_box_fixture.hpp"
@@ -103,6 +105,13 @@ TEST_CASE("A settling bed's skin thins as it comes to rest, a fast arrival thick
   sim.run_steps(1);
   CHECK(sim.neighbors().builds() == builds + 1);
   CHECK(sim.skin() == Approx(std::min(skin_max, 2 * AdaptiveSkin::kSteps * 2.0 * sim.dt())).epsilon(0.02));
+  // That skin is its own (and its neighbours'): the bed keeps its thin common skin, so its lists
+  // stay as short as they were.
+  REQUIRE_FALSE(sim.neighbors().skins().empty());
+  CHECK(sim.neighbors().smallest_skin() < 0.2 * sim.skin());
+  const std::vector<double>& skins = sim.neighbors().skins();
+  CHECK(std::count(skins.begin(), skins.end(), sim.neighbors().smallest_skin()) > 150);
+  // Every contact found while it falls into the bed and the struck grains move off.
   for (int step = 0; step < 3000; ++step) {
     sim.run_steps(1);
     REQUIRE(sim.diagnostics().contacts == overlapping_pairs(sim.particles()));

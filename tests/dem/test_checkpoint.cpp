@@ -120,6 +120,38 @@ TEST_CASE("A run with a stray on its slack continues bit for bit from a checkpoi
   testing::require_identical(whole, second);
 }
 
+TEST_CASE("A run whose spheres have skins of their own continues bit for bit from a checkpoint",
+          "[dem][checkpoint][neighbor][skin]") {
+  // A grain arriving at 2 m/s gets a thick skin of its own, the settled bed a thin one
+  // (dem/adaptive_skin.hpp): each sphere's skin decides when the list is rebuilt, so a restore must
+  // give them back exactly (/neighbors/skin).
+  const testing::ParallelEverything guard;
+  const testing::CheckpointTempDir dir;
+  const int threads = GENERATE(1, 2);
+  omp_set_num_threads(threads);
+  auto bed = [] {
+    Simulation sim = testing::barley_box(RollingModel::constant_torque, 6, 6, 5, 7);
+    sim.run_steps(8000);  // settled: one thin skin for all
+    sim.add_sphere(0, 0.003, {0.02, 0.02, 0.08}, {0, 0, -2.0});
+    return sim;
+  };
+  Simulation whole = bed();
+  whole.run_steps(400);
+  Simulation first = bed();
+  first.run_steps(200);
+  REQUIRE_FALSE(first.neighbors().skins().empty());
+  write_checkpoint(dir / "skins.h5", first);
+  Simulation second = bed();
+  restore_checkpoint(read_checkpoint(dir / "skins.h5"), second);
+  CHECK(second.neighbors().skins() == first.neighbors().skins());
+  CHECK(second.neighbors().slack2() == first.neighbors().slack2());
+  const std::size_t builds = second.neighbors().builds();
+  second.run_steps(200);
+  CHECK(second.neighbors().builds() > builds);
+  testing::require_identical(whole, second);
+  omp_set_num_threads(2);
+}
+
 TEST_CASE("Restoring a checkpoint and writing it again gives the same bytes", "[dem][checkpoint]") {
   // Everything stored is read back as it was (no field forgotten on either side).
   const testing::CheckpointTempDir dir;

@@ -319,3 +319,183 @@ TEST_CASE("A list saved keyed on id is restored keyed on slot, each history seen
   NeighborList refused;
   CHECK_THROWS_AS(refused.restore(p, skin, {}, start, partner, history, 1), std::invalid_argument);
 }
+
+namespace {
+
+/// Pairs within r_a + r_b + (s_a + s_b)/2, each particle's skin s given by its id.
+template <class SkinOf>
+PairSet brute_force_own_skins(const Particles& p, SkinOf skin_of) {
+  PairSet s;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    for (std::size_t j = i + 1; j < p.size(); ++j) {
+      const double cut = p.radius[i] + p.radius[j] + 0.5 * (skin_of(p.id[i]) + skin_of(p.id[j]));
+      if (norm2(p.x[i] - p.x[j]) < cut * cut) s.insert(std::minmax(p.id[i], p.id[j]));
+    }
+  return s;
+}
+
+/// Builds `nl` the way Simulation::rebuild does with a skin per particle (by id), the cells sorted
+/// for the largest; returns the skins in the new slot order.
+template <class SkinOf>
+std::vector<double> build_with_own_skins(NeighborList& nl, Particles& p, double largest, SkinOf skin_of) {
+  const auto order = nl.sort_by_cell(p, largest);
+  p.permute(order);
+  std::vector<double> skins(p.size());
+  for (std::size_t i = 0; i < p.size(); ++i) skins[i] = skin_of(p.id[i]);
+  nl.build(p, skins, order);
+  return skins;
+}
+
+}  // namespace
+
+TEST_CASE("With a skin per particle the list equals brute force at (s_a + s_b)/2, and stays exact while each "
+          "particle keeps within half its own", "[dem][neighbor][skin]") {
+  // dem/adaptive_skin.hpp gives the few fast spheres of a bed skins of their own: one in 50 here,
+  // five times the common skin.
+  const testing::ParallelEverything guard;
+  const int threads = GENERATE(1, 2, 4);
+  omp_set_num_threads(threads);
+  const double thin = 0.0002, thick = 0.001;
+  auto skin_of = [&](std::uint64_t id) { return id % 50 == 7 ? thick : thin; };
+  Particles p = random_particles(2000, 0.15, 7);
+  NeighborList nl;
+  const std::vector<double> skins = build_with_own_skins(nl, p, thick, skin_of);
+  INFO(threads << " thread(s), " << nl.entries() << " entries");
+  CHECK(listed(p, nl) == brute_force_own_skins(p, skin_of));
+  CHECK(nl.skin() == thick);
+  CHECK(nl.smallest_skin() == thin);
+  CHECK(nl.skins() == skins);
+  // Fewer entries than one thick skin for all, more than one thin one.
+  CHECK(brute_force(p, thin).size() < nl.entries());
+  CHECK(nl.entries() < brute_force(p, thick).size());
+
+  // Each particle moves just under half its own skin: not stale, and every touching pair is listed.
+  const std::vector<double>& slack = nl.slack2();
+  REQUIRE(slack.size() == p.size());
+  auto moved2 = [&] {
+    double m = 0;
+    for (std::size_t i = 0; i < p.size(); ++i) m = std::max(m, norm2(p.x[i] - p.x_at_build[i]) - slack[i]);
+    return m;
+  };
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const Vec3 d{u(rng), u(rng), u(rng)};
+    p.x[i] += (0.499 * skins[i] / std::sqrt(norm2(d))) * d;
+  }
+  CHECK_FALSE(nl.stale(p, moved2()));
+  const PairSet pairs = listed(p, nl);
+  const PairSet touching = brute_force(p, 0.0);
+  REQUIRE(touching.size() > 100);
+  for (const auto& pair : touching) CHECK(pairs.count(pair) == 1);
+  // One thin-skinned particle a little beyond half its own skin (a fifth of half the thick one):
+  // stale.
+  std::size_t slot = 0;
+  while (skins[slot] != thin) ++slot;
+  p.x[slot] = p.x_at_build[slot] + Vec3{0.501 * thin, 0, 0};
+  CHECK(nl.stale(p, moved2()));
+
+  // Skins all alike: the list of one skin for all, bit for bit, with no slack.
+  Particles q = random_particles(2000, 0.15, 7), r = q;
+  NeighborList one, alike;
+  testing::build_list(one, q, thin);
+  build_with_own_skins(alike, r, thin, [&](std::uint64_t) { return thin; });
+  CHECK(alike.starts() == one.starts());
+  CHECK(alike.partners() == one.partners());
+  CHECK(alike.skins().empty());
+  CHECK(alike.slack2().empty());
+  CHECK(alike.skin() == thin);
+  CHECK(alike.smallest_skin() == thin);
+  omp_set_num_threads(2);
+}
+
+TEST_CASE("A stray keeps its slack among particles of skins of their own", "[dem][neighbor][skin]") {
+  // The stray rule with a skin per particle (NeighborList::assign_stray_slack): the lone grain 10 m
+  // below may still move most of its gap; the others' slack is their own skin's.
+  const double thin = 0.0002, thick = 0.001;
+  auto skin_of = [&](std::uint64_t id) { return id % 50 == 7 ? thick : thin; };
+  Particles p = bed_and_falling_pair();
+  p.add_sphere(5002, 0, 0.004, 1000, {0.07, 0.05, -10.0});
+  // Two more strays 20 m below, 0.5 mm apart: more than their thin skins, less than the thick one.
+  // Their gap bounds how far they may move only where it is at least the thick skin (the neighbour
+  // beside a stray may hold it): so each may move half its own skin, not half the gap.
+  p.add_sphere(5003, 0, 0.004, 1000, {0.07, 0.05, -20.0});
+  p.add_sphere(5004, 0, 0.004, 1000, {0.0785, 0.05, -20.0});
+  NeighborList nl;
+  const std::vector<double> skins = build_with_own_skins(nl, p, thick, skin_of);
+  CHECK(listed(p, nl) == brute_force_own_skins(p, skin_of));
+  const std::vector<double>& slack = nl.slack2();
+  REQUIRE(slack.size() == p.size());
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const double allow = std::sqrt(slack[i] + 0.25 * thick * thick);
+    if (p.id[i] == 5002) {
+      CHECK(allow > 4.0);
+      CHECK(allow < 5.0);
+    } else {
+      CHECK(allow == Approx(0.5 * skins[i]).epsilon(1e-12));
+    }
+  }
+}
+
+TEST_CASE("A fast particle's skin reaches the particles of its own and the adjacent cells", "[dem][neighbor][skin]") {
+  const double thin = 0.0002, thick = 0.001;
+  Particles p = random_particles(2000, 0.15, 9);
+  NeighborList nl;
+  const auto order = nl.sort_by_cell(p, thick);
+  p.permute(order);
+  std::vector<double> own(p.size(), thin), out;
+  for (std::size_t i = 0; i < p.size(); ++i) own[i] = p.id[i] % 400 == 3 ? thick : thin;
+  nl.spread_to_adjacent_cells(p, own, thin, out);
+  // Within a cell edge on every axis: the same or an adjacent cell. Two edges away on some axis from
+  // every fast particle: no adjacent cell holds one.
+  const double c = nl.cell_size();
+  std::size_t reached = 0, apart = 0;
+  for (std::size_t j = 0; j < p.size(); ++j) {
+    bool near = false, far = true;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      if (own[i] != thick) continue;
+      const Vec3 d = p.x[j] - p.x[i];
+      const double m = std::max({std::abs(d.x), std::abs(d.y), std::abs(d.z)});
+      near = near || m < c;
+      far = far && m >= 2 * c;
+    }
+    if (near) {
+      CHECK(out[j] == thick);
+      ++reached;
+    }
+    if (far) {
+      CHECK(out[j] == thin);
+      ++apart;
+    }
+  }
+  INFO(reached << " particles reached, " << apart << " apart");
+  CHECK(reached > 10);
+  CHECK(apart > 500);
+}
+
+TEST_CASE("A list's skins are refused on restore unless one per row, each in [0, the largest]", "[dem][neighbor][skin]") {
+  const double thin = 0.0002, thick = 0.001;
+  auto skin_of = [&](std::uint64_t id) { return id % 50 == 7 ? thick : thin; };
+  Particles p = random_particles(500, 0.08, 13);
+  NeighborList nl;
+  const std::vector<double> skins = build_with_own_skins(nl, p, thick, skin_of);
+  std::vector<ContactHistory> history(nl.entries());
+  NeighborList restored;
+  restored.restore(p, thick, skins, nl.starts(), nl.partners(), history, 1);
+  CHECK(restored.skins() == nl.skins());
+  CHECK(restored.slack2() == nl.slack2());
+  CHECK(restored.smallest_skin() == thin);
+  auto refused = [&](std::vector<double> s, const char* why) {
+    INFO(why);
+    NeighborList r;
+    CHECK_THROWS_AS(r.restore(p, thick, std::move(s), nl.starts(), nl.partners(), history, 1), std::invalid_argument);
+  };
+  refused(std::vector<double>(skins.begin(), skins.end() - 1), "one short");
+  std::vector<double> s = skins;
+  s[3] = 2 * thick;
+  refused(s, "beyond the largest");
+  s[3] = -thin;
+  refused(s, "negative");
+  s[3] = std::nan("");
+  refused(s, "not a number");
+}
