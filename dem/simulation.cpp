@@ -362,17 +362,19 @@ Simulation::SkinChoice Simulation::choose_skins() const {
     v2_max = std::max(v2_max, speed2_[s]);
   }
   const double skin_max = settings_.skin_max > 0 ? settings_.skin_max : 0.2 * r_max;
-  // (A blown-up state's velocities may not be finite: keep to the bound, the sort reports it.)
-  if (!std::isfinite(v2_max)) {
-    own_skin_.assign(n, skin_max);
-    return {skin_max, skin_max};
-  }
   // The common skin follows the speed that all but the fastest AdaptiveSkin::kFastShare of the
   // spheres keep under; those faster get their own (the same bits as one skin for all where even the
   // fastest's skin is the floor).
   skin_scratch_.clear();
+  bool finite = std::isfinite(v2_max);
   for (std::size_t s = 0; s < n; ++s) {
+    finite = finite && !std::isnan(speed2_[s]);
     if (speed2_[s] >= 0) skin_scratch_.push_back(speed2_[s]);
+  }
+  // (A blown-up state's velocities may not be finite: keep to the bound, the sort reports it.)
+  if (!finite) {
+    own_skin_.assign(n, skin_max);
+    return {skin_max, skin_max};
   }
   double v2_common = 0;
   if (!skin_scratch_.empty()) {
