@@ -186,7 +186,8 @@ void NeighborList::build_rows(Particles& p, const std::vector<std::uint32_t>& ne
         for (std::uint32_t j = j0; j < j1; ++j) {
           if (p.body[j] == p.body[i]) continue;  // no contacts inside a body
           // (One skin for all: the sum as it always was, so such a list is the same bit for bit.)
-          const double cut = own ? p.radius[i] + p.radius[j] + 0.5 * (own[i] + own[j]) : p.radius[i] + p.radius[j] + skin;
+          const double cut = own ? p.radius[i] + p.radius[j] + 0.5 * (own[i] + own[j])
+                                 : p.radius[i] + p.radius[j] + skin;
           if (norm2(p.x[j] - xi) < cut * cut) visit(j);
         }
       }

@@ -310,8 +310,8 @@ void Simulation::restore(SimulationState&& s) {
   }
   // Validate the neighbour list and wall contacts in scratch objects before touching ours.
   NeighborList nl;
-  nl.restore(p, s.skin, std::move(s.neighbor_skin), std::move(s.neighbor_start), std::move(s.neighbor_partner), std::move(s.neighbor_history),
-             s.neighbor_builds);
+  nl.restore(p, s.skin, std::move(s.neighbor_skin), std::move(s.neighbor_start), std::move(s.neighbor_partner),
+             std::move(s.neighbor_history), s.neighbor_builds);
   ForceField ff;
   ff.restore_wall_contacts(s.wall_count, s.wall_slots, walls_.size());
 
@@ -379,9 +379,10 @@ Simulation::SkinChoice Simulation::choose_skins() const {
   double v2_common = 0;
   if (!skin_scratch_.empty()) {
     const std::size_t m = skin_scratch_.size();
-    const auto k = static_cast<std::ptrdiff_t>(m - 1 - static_cast<std::size_t>(AdaptiveSkin::kFastShare * static_cast<double>(m - 1)));
-    std::nth_element(skin_scratch_.begin(), skin_scratch_.begin() + k, skin_scratch_.end());
-    v2_common = skin_scratch_[static_cast<std::size_t>(k)];
+    const std::size_t faster = static_cast<std::size_t>(AdaptiveSkin::kFastShare * static_cast<double>(m - 1));
+    const auto k = skin_scratch_.begin() + static_cast<std::ptrdiff_t>(m - 1 - faster);
+    std::nth_element(skin_scratch_.begin(), k, skin_scratch_.end());
+    v2_common = *k;
   }
   const double common = AdaptiveSkin::choose(std::sqrt(v2_common), dt_, skin_max);
   own_skin_.resize(n);
