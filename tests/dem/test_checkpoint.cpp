@@ -51,6 +51,26 @@ int pair_histories(const Simulation& sim) {
   return n;
 }
 
+/// bed() run 2 x `half` steps in one go, and `half` steps, through a checkpoint into a fresh bed(),
+/// `half` more: both must end the same bit for bit. `restored(first, second)` checks what the restore
+/// gave back, before the second half. Returns the list builds of the second half.
+template <class Bed, class Restored>
+std::size_t restarted_halfway(Bed bed, std::uint64_t half, Restored restored) {
+  const testing::CheckpointTempDir dir;
+  Simulation whole = bed();
+  whole.run_steps(2 * half);
+  Simulation first = bed();
+  first.run_steps(half);
+  write_checkpoint(dir / "half.h5", first);
+  Simulation second = bed();
+  restore_checkpoint(read_checkpoint(dir / "half.h5"), second);
+  restored(first, second);
+  const std::size_t builds = second.neighbors().builds();
+  second.run_steps(half);
+  testing::require_identical(whole, second);
+  return second.neighbors().builds() - builds;
+}
+
 }  // namespace
 
 TEST_CASE("A run restored from a checkpoint continues bit for bit, on 1 and 2 threads", "[dem][checkpoint]") {
@@ -101,23 +121,15 @@ TEST_CASE("A run with a stray on its slack continues bit for bit from a checkpoi
   // when the list is rebuilt, so a restore must give it back exactly (it is rebuilt from the
   // positions at the build, which the checkpoint holds).
   const testing::ParallelEverything guard;
-  const testing::CheckpointTempDir dir;
   auto bed = [] {
     Simulation sim = testing::barley_box(RollingModel::constant_torque, 6, 6, 5, 7);
     sim.add_sphere(0, 0.003, {0.02, 0.02, -2.0}, {0, 0, -10.0});
     return sim;
   };
-  Simulation whole = bed();
-  whole.run_steps(1200);
-  Simulation first = bed();
-  first.run_steps(600);
-  REQUIRE_FALSE(first.neighbors().slack2().empty());
-  write_checkpoint(dir / "stray.h5", first);
-  Simulation second = bed();
-  restore_checkpoint(read_checkpoint(dir / "stray.h5"), second);
-  CHECK(second.neighbors().slack2() == first.neighbors().slack2());
-  second.run_steps(600);
-  testing::require_identical(whole, second);
+  restarted_halfway(bed, 600, [](const Simulation& first, const Simulation& second) {
+    REQUIRE_FALSE(first.neighbors().slack2().empty());
+    CHECK(second.neighbors().slack2() == first.neighbors().slack2());
+  });
 }
 
 TEST_CASE("A run whose spheres have skins of their own continues bit for bit from a checkpoint",
@@ -126,7 +138,6 @@ TEST_CASE("A run whose spheres have skins of their own continues bit for bit fro
   // (dem/adaptive_skin.hpp): each sphere's skin decides when the list is rebuilt, so a restore must
   // give them back exactly (/neighbors/skin).
   const testing::ParallelEverything guard;
-  const testing::CheckpointTempDir dir;
   const int threads = GENERATE(1, 2);
   omp_set_num_threads(threads);
   auto bed = [] {
@@ -135,20 +146,12 @@ TEST_CASE("A run whose spheres have skins of their own continues bit for bit fro
     sim.add_sphere(0, 0.003, {0.02, 0.02, 0.08}, {0, 0, -2.0});
     return sim;
   };
-  Simulation whole = bed();
-  whole.run_steps(400);
-  Simulation first = bed();
-  first.run_steps(200);
-  REQUIRE_FALSE(first.neighbors().skins().empty());
-  write_checkpoint(dir / "skins.h5", first);
-  Simulation second = bed();
-  restore_checkpoint(read_checkpoint(dir / "skins.h5"), second);
-  CHECK(second.neighbors().skins() == first.neighbors().skins());
-  CHECK(second.neighbors().slack2() == first.neighbors().slack2());
-  const std::size_t builds = second.neighbors().builds();
-  second.run_steps(200);
-  CHECK(second.neighbors().builds() > builds);
-  testing::require_identical(whole, second);
+  const std::size_t builds = restarted_halfway(bed, 200, [](const Simulation& first, const Simulation& second) {
+    REQUIRE_FALSE(first.neighbors().skins().empty());
+    CHECK(second.neighbors().skins() == first.neighbors().skins());
+    CHECK(second.neighbors().slack2() == first.neighbors().slack2());
+  });
+  CHECK(builds > 0);  // the restored skins were used
   omp_set_num_threads(2);
 }
 
