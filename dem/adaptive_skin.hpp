@@ -21,14 +21,14 @@
 //     spheres keep under, for every sphere up to v_c;
 //   - skin(v_i) for a sphere faster than v_c, and the same for every sphere in its own and the
 //     adjacent cells (the ones it may strike before the next build: a sphere struck from rest would
-//     otherwise outrun the common skin within a few steps; in the bed below 25 builds in 600 steps
-//     instead of 20).
+//     otherwise outrun the common skin within a few steps; the bed below made 25 list builds in 600
+//     steps without this, 20 with it).
 // So a few fast spheres no longer thicken every sphere's list. A bed that has come to rest still
 // has some (the 10^5-sphere bed of bench/run_scaling.sh after 0.8 s: the median sphere at 0.08 mm/s,
 // a few rolling over the surface at 0.1-0.2 m/s); under one skin for all, the fastest set the skin
-// at skin_max: 2.82 list entries per sphere against 1.99 with skins of their own (1.79 contacts),
-// and each step 11-15 % slower (docs/performance.md). And a larger bed has a faster outlier, so one
-// skin for all made the cost per sphere grow with N. Where even the fastest sphere's skin is the
+// at skin_max: 2.82 list entries per sphere against 1.99 with skins of their own (1.88 contacts),
+// each step ~6 % slower on one thread (the two codes alternated, docs/performance.md). And a larger
+// bed has a faster outlier, so one skin for all made the cost per sphere grow with N. Where even the fastest sphere's skin is the
 // floor, all share it, and the list is the same bit for bit as under one skin.
 // A list that is never stale (a bed come to rest) would keep the skins of its build for ever, so
 // every kCheckEvery steps (counted from the start: restarts see the same steps) the common skin is
