@@ -1,5 +1,6 @@
 // The adaptive Verlet skin (dem/adaptive_skin.hpp): its rule, its bounds, that a bed coming to rest
-// gets a thin skin and a fast arrival the thickest, that the list stays exact at every step
+// gets a thin skin and a fast arrival the thickest (its own: the bed keeps the thin one), that the
+// list stays exact at every step
 // while the skin changes (contacts against an O(N^2) search), and that a fixed time.skin is kept.
 #include <omp.h>
 
