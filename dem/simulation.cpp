@@ -344,38 +344,31 @@ void Simulation::restore(SimulationState&& s) {
 Simulation::SkinChoice Simulation::choose_skins() const {
   const Particles& p = particles_;
   const std::size_t n = p.size();
-  if (settings_.skin > 0) {
-    own_skin_.assign(n, settings_.skin);
-    return {settings_.skin, settings_.skin};
-  }
+  if (settings_.skin > 0) return {settings_.skin, settings_.skin};
   // Each sphere's speed (strays with slack left out: they may outrun the skin anyway,
   // NeighborList::slack2; -1 marks them), and the largest radius present for the default bound.
   const double* slack = neighbors_.slack2().data();
   const std::size_t slack_n = neighbors_.slack2().size();
   speed2_.resize(n);
-  double v2_max = 0, r_max = 0;
-#pragma omp parallel for if(n >= parallel_min_items()) schedule(static) reduction(max : v2_max, r_max)
+  double r_max = 0;
+#pragma omp parallel for if(n >= parallel_min_items()) schedule(static) reduction(max : r_max)
   for (std::size_t s = 0; s < n; ++s) {
     r_max = std::max(r_max, p.radius[s]);
     const bool stray = s < slack_n && slack[s] > 0;
     speed2_[s] = stray ? -1.0 : norm2(p.v[s]);
-    v2_max = std::max(v2_max, speed2_[s]);
   }
   const double skin_max = settings_.skin_max > 0 ? settings_.skin_max : 0.2 * r_max;
   // The common skin follows the speed that all but the fastest AdaptiveSkin::kFastShare of the
   // spheres keep under; those faster get their own (the same bits as one skin for all where even the
   // fastest's skin is the floor).
   skin_scratch_.clear();
-  bool finite = std::isfinite(v2_max);
+  bool finite = true;
   for (std::size_t s = 0; s < n; ++s) {
-    finite = finite && !std::isnan(speed2_[s]);
+    finite = finite && std::isfinite(speed2_[s]);
     if (speed2_[s] >= 0) skin_scratch_.push_back(speed2_[s]);
   }
   // (A blown-up state's velocities may not be finite: keep to the bound, the sort reports it.)
-  if (!finite) {
-    own_skin_.assign(n, skin_max);
-    return {skin_max, skin_max};
-  }
+  if (!finite) return {skin_max, skin_max};
   double v2_common = 0;
   if (!skin_scratch_.empty()) {
     const std::size_t m = skin_scratch_.size();

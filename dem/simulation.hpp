@@ -153,8 +153,9 @@ class Simulation {
   void check_pairs_in_use(const Particles& p) const;
   /// A neighbour-list build with the skins chosen now (choose_skins).
   void rebuild();
-  /// The skins for a build (dem/adaptive_skin.hpp): each sphere's own, in the present slot order,
-  /// into own_skin_ (a fixed time.skin: that for all). Returns the common one and the largest.
+  /// The skins for a build (dem/adaptive_skin.hpp): the common one and the largest (a fixed
+  /// time.skin: that for both); where they differ, each sphere's own into own_skin_, in the present
+  /// slot order.
   struct SkinChoice {
     double common = 0, largest = 0;
   };

@@ -228,6 +228,9 @@ StepStability StepStabilityMonitor::assess(const Particles& p, const Bodies& b, 
   // much as stage 1); else by walking every contact once more.
   using Mat6 = Eigen::Matrix<double, 6, 6>;
   using Vec6 = Eigen::Matrix<double, 6, 1>;
+  // Whether body k's bound (margin_[k]) rules it out: below the worst margin found so far.
+  // (1e-6: room for the round-off of margin_of and of the eigenvalue, far above either.)
+  auto beyond_worst = [&](std::size_t k) { return !refine_every_suspect_ && margin_[k] * (1 + 1e-6) < worst.margin; };
   auto refine = [&](std::size_t k, const std::vector<Spring>& springs) {
     // Work in mass-normalised coordinates: K' = M^-1/2 K M^-1/2.
     const Eigen::Matrix3d R = rotation_matrix(b.q[k]);
@@ -246,8 +249,7 @@ StepStability StepStabilityMonitor::assess(const Particles& p, const Bodies& b, 
     }
     const double g_k = K.cwiseAbs().rowwise().sum().maxCoeff(), g_c = C.cwiseAbs().rowwise().sum().maxCoeff();
     margin_[k] = 0.5 * dt * (std::sqrt(g_k + 0.25 * g_c * g_c) + 0.5 * g_c);
-    // (1e-6: room for the round-off of margin_of and of the eigenvalue, far above either.)
-    if (!refine_every_suspect_ && margin_[k] * (1 + 1e-6) < worst.margin) return;
+    if (beyond_worst(k)) return;
     const Eigen::SelfAdjointEigenSolver<Mat6> eig(K);
     const double omega = std::sqrt(std::max(eig.eigenvalues()(5), 0.0));
     const Vec6 phi = eig.eigenvectors().col(5);
@@ -268,8 +270,6 @@ StepStability StepStabilityMonitor::assess(const Particles& p, const Bodies& b, 
     return side == bi ? Spring{n, ri, f * s_n, f * c_n} : Spring{n, rj, f * s_n, f * c_n};
   };
 
-  // (1e-6: room for the round-off of both margins, far above it.)
-  auto beyond_worst = [&](std::size_t k) { return !refine_every_suspect_ && margin_[k] * (1 + 1e-6) < worst.margin; };
   order_.clear();
   for (std::size_t k = 0; k < nb; ++k)
     if (suspect_[k] >= 0) order_.push_back(static_cast<std::uint32_t>(k));
