@@ -35,6 +35,9 @@ constexpr std::size_t kPrefetchEntries = 24;
 // 12 and 16 +2-3 %; the partner shares and near-wall masks as well, ~1.5 % worse than without.
 constexpr std::size_t kPrefetchBlocks = 8;
 
+// The chunked entry loop (beds beyond the caches) tests this many entries before gathering its contacts.
+constexpr std::uint32_t kEntryChunk = 128;
+
 constexpr std::size_t kPassBlock = 64;  // spheres per block (a thread takes a range of blocks: dem/work_split.hpp)
 // What a block costs the force loop, per sphere, per list entry it owns and per sphere near a wall
 // (perf, the 10^3 bed, 1 thread: ~4 ns a sphere, ~20 ns an entry, ~25 ns a sphere with a wall in
@@ -51,6 +54,30 @@ inline void prefetch_lines(const T* from, const T* to, bool for_write = false) {
   } else {
     for (; line < end; line += 64) __builtin_prefetch(line, 0);
   }
+}
+
+/// How far (partner - owner, in slots) a pair may reach and keep its partner share in a ring of `size`
+/// entries (ForceField::share_ring_): the largest r such that the entries of any r + 1 consecutive
+/// owners fill at most half the ring, and no larger than any entry's reach; 0 (no share in the
+/// ring) if one owner's entries fill more. A share is read once the completion front passes its
+/// partner, so the shares the ring must hold at once are those of the owners within r of the front,
+/// plus a chunk of entries: half a ring leaves room for the batch's lag (pass_with's guard).
+std::uint32_t ring_reach(const NeighborList& nl, std::size_t size) {
+  const std::vector<std::uint32_t>& start = nl.starts();
+  const std::size_t n = start.size() - 1, budget = size / 2;
+  std::size_t reach = n;
+  for (std::size_t i = 0, e = 0; i < n; ++i) {
+    e = std::max(e, i);
+    while (e < n && start[e + 1] - start[i] <= budget) ++e;  // owners [i, e) fit, [i, e] do not
+    if (e == n) break;                                         // (nor does any window further on)
+    if (e == i) return 0;
+    reach = std::min(reach, e - i - 1);
+  }
+  std::uint32_t widest = 0;
+  const std::vector<std::uint32_t>& owner = nl.owners();
+  const std::vector<std::uint32_t>& partner = nl.partners();
+  for (std::size_t k = 0; k < partner.size(); ++k) widest = std::max(widest, partner[k] - owner[k]);
+  return static_cast<std::uint32_t>(std::min<std::size_t>(reach, widest));
 }
 
 /// Contact and rolling parameters for every material pair that is defined.
@@ -132,7 +159,29 @@ bool ForceField::begins_in_team(const Particles& p, const NeighborList& nl, cons
   const std::size_t n = p.size(), entries = nl.entries();
   return list_generation_ == nl.generation() && touching_.size() == entries && partner_share_.size() == entries &&
          wall_slots_.stride() == n && block_cost_.size() == (n + kPassBlock - 1) / kPassBlock &&
-         pass_stats_.size() >= static_cast<std::size_t>(team) && signals_.size() >= team && walls_where_found(walls);
+         pass_stats_.size() >= static_cast<std::size_t>(team) && signals_.size() >= team && walls_where_found(walls) &&
+         ring_chosen(nl, n, team);
+}
+
+bool ForceField::ring_chosen(const NeighborList& nl, std::size_t n, int team) const {
+  const std::size_t size = n >= beyond_cache_spheres() ? share_ring_entries() : 0;
+  return ring_entries_ == size &&
+         (size == 0 || (ring_generation_ == nl.generation() && share_ring_.size() >= static_cast<std::size_t>(team) * size));
+}
+
+void ForceField::choose_ring(const NeighborList& nl, std::size_t n, int team) {
+  const std::size_t size = n >= beyond_cache_spheres() ? share_ring_entries() : 0;
+  assert(size == 0 || (size >= 2 * kEntryChunk && (size & (size - 1)) == 0));
+  if (size == 0) {
+    ring_entries_ = 0;
+    return;
+  }
+  if (ring_entries_ != size || ring_generation_ != nl.generation()) {
+    ring_reach_ = ring_reach(nl, size);
+    ring_entries_ = size;
+    ring_generation_ = nl.generation();
+  }
+  if (share_ring_.size() < static_cast<std::size_t>(team) * size) share_ring_.resize(static_cast<std::size_t>(team) * size);
 }
 
 /// Sphere i's wall contacts, queued in the batch; histories found by (wall, feature) among last
@@ -234,7 +283,7 @@ void ForceField::flush_walls(WallBatch<Rolling>& b, double dt, Particles& p, Wal
 
 template <class Rolling>
 void ForceField::flush_pairs(PairBatch<Rolling>& b, double dt, Particles& p, NeighborList& nl, OwnerSum& open,
-                             double& worst_ratio, double& stiff_pair) {
+                             double& worst_ratio, double& stiff_pair, PartnerShare* ring, std::uint32_t ring_mask) {
   b.evaluate(dt);
   // The open sums and the maxima in locals, the arrays as plain pointers. Through `open` every +=
   // went to memory (it may alias the arrays), and storing the complete sums read them back 16
@@ -250,6 +299,7 @@ void ForceField::flush_pairs(PairBatch<Rolling>& b, double dt, Particles& p, Nei
   Vec3 *const force = p.force.data(), *const torque = p.torque.data();
   Vec3 *const shear = nl.shear_data(), *const rolling = nl.rolling_data();
   PartnerShare* const share = partner_share_.data();
+  const std::uint8_t* const touching = touching_.data();
   for (int c = 0; c < b.size; ++c) {
     const std::uint32_t i = b.owner[c];
     if (i != slot) {  // the open sphere has no more contacts: its sums are complete
@@ -258,9 +308,11 @@ void ForceField::flush_pairs(PairBatch<Rolling>& b, double dt, Particles& p, Nei
     }
     sum_force += Vec3{b.fx[c], b.fy[c], b.fz[c]};
     sum_torque += Vec3{b.tix[c], b.tiy[c], b.tiz[c]};
-    share[b.entry[c]] = {{b.fx[c], b.fy[c], b.fz[c]}, {b.tjx[c], b.tjy[c], b.tjz[c]}};
-    shear[b.entry[c]] = {b.sx[c], b.sy[c], b.sz[c]};
-    if constexpr (Rolling::kSpring) rolling[b.entry[c]] = {b.rx[c], b.ry[c], b.rz[c]};
+    const std::uint32_t k = b.entry[c];
+    PartnerShare* const to = (touching[k] & kInRing) ? ring + (k & ring_mask) : share + k;
+    *to = {{b.fx[c], b.fy[c], b.fz[c]}, {b.tjx[c], b.tjy[c], b.tjz[c]}};
+    shear[k] = {b.sx[c], b.sy[c], b.sz[c]};
+    if constexpr (Rolling::kSpring) rolling[k] = {b.rx[c], b.ry[c], b.rz[c]};
     worst = std::max(worst, b.overlap_ratio[c]);
     stiff = std::max(stiff, b.stiffness_per_mass[c]);
   }
@@ -313,6 +365,7 @@ void ForceField::begin_with(const Models<Rolling>& /*the rolling model's type on
     work_split_.split(block_cost_, team);
     split_stale_ = false;
   }
+  choose_ring(nl, n, team);
   signals_.reserve(team);
   if (pass_stats_.size() < static_cast<std::size_t>(team)) pass_stats_.resize(team);
   pairs_done_ = signals_.next_epoch(), forces_done_ = signals_.next_epoch();
@@ -435,22 +488,42 @@ void ForceField::pass_with(const Models<Rolling>& m, int threads, int thread, Pa
     OwnerSum open{n};
     WallStats ws;
     WallBatch<Rolling> wall_batch;
+    // This thread's blocks [mine, mine_end), spheres [first, end).
+    const bool as_split = threads == work_split_.threads();
+    std::size_t mine = 0, mine_end = 0;
+    thread_blocks(n, threads, thread, mine, mine_end);
+    const std::size_t first = std::min(n, mine * kPassBlock), end = std::min(n, mine_end * kPassBlock);
+    // Spheres before `done` are completed, or left for after the threads below: [first, deferred).
+    const std::size_t deferred = first < end ? std::min<std::size_t>(end, nl.reach_before(first)) : first;
+    std::size_t done = std::max(first, deferred);
+    // This thread's ring of partner shares (share_ring_), for the spheres its completion front
+    // completes, [deferred, end), whose pairs reach no further than ring_reach; the other shares go
+    // to partner_share_. A touching entry's flag says where its share is (kInRing).
+    const std::size_t ring_size = fused ? ring_entries_ : 0;
+    PartnerShare* const ring = ring_size > 0 ? share_ring_.data() + static_cast<std::size_t>(thread) * ring_size : nullptr;
+    const std::uint32_t ring_mask = ring_size > 0 ? static_cast<std::uint32_t>(ring_size - 1) : 0;
+    const std::uint32_t ring_reach = ring_size > 0 ? ring_reach_ : 0;  // 0: no pair (partner > owner)
+    const std::uint32_t ring_lo = static_cast<std::uint32_t>(deferred);
+    const std::uint32_t ring_span = static_cast<std::uint32_t>(end - deferred);
     // Spheres [from, to) completed: the partner shares (walked by reverse position as the pair front
     // walks entries: most spheres of a settled bed have none, so no per-sphere branch on it; a share
-    // is current if its entry is touching), then the wall contacts, a function of their own, not
+    // is current if its entry is touching, and in the ring if flagged kInRing), then the wall contacts, a function of their own, not
     // inlined: most spheres skip them, and inlined they left too few registers for the loop.
     // Whether sphere i's wall contacts must be looked for: most of a bed has no wall within reach
     // and had no wall contact.
     auto near_a_wall = [&](std::size_t i) {
       return before_count[i] > 0 || wall_in_reach(i, walls.size());
     };
-    auto complete = [&, rev_start, rev_entry, rev_owner, touching, force, torque, share, count](std::size_t from, std::size_t to) {
+    auto complete = [&, rev_start, rev_entry, rev_owner, touching, force, torque, share, ring, ring_mask, count](
+                        std::size_t from, std::size_t to) {
       for (std::uint32_t r = rev_start[from], last = rev_start[to]; r < last; ++r) {
         const std::uint32_t k = rev_entry[r];
-        if (!touching[k]) continue;
+        const std::uint8_t flag = touching[k];
+        if (!flag) continue;
         const std::uint32_t i = rev_owner[r];
-        force[i] -= share[k].force;
-        torque[i] += share[k].torque;
+        const PartnerShare& got = (flag & kInRing) ? ring[k & ring_mask] : share[k];
+        force[i] -= got.force;
+        torque[i] += got.torque;
       }
       for (std::size_t i = from; i < to; ++i) {
         if (near_a_wall(i)) {
@@ -467,14 +540,6 @@ void ForceField::pass_with(const Models<Rolling>& m, int threads, int thread, Pa
         if (probe != 0) bad = std::min<std::int64_t>(bad, static_cast<std::int64_t>(i));
       }
     };
-    // This thread's blocks [mine, mine_end), spheres [first, end).
-    const bool as_split = threads == work_split_.threads();
-    std::size_t mine = 0, mine_end = 0;
-    thread_blocks(n, threads, thread, mine, mine_end);
-    const std::size_t first = std::min(n, mine * kPassBlock), end = std::min(n, mine_end * kPassBlock);
-    // Spheres before `done` are completed, or left for after the threads below: [first, deferred).
-    const std::size_t deferred = first < end ? std::min<std::size_t>(end, nl.reach_before(first)) : first;
-    std::size_t done = std::max(first, deferred);
     // A full batch evaluated: the spheres before the owner of its last contact are complete. Their
     // wall slots, the one thing of theirs the pair front has not touched, are fetched first, to
     // arrive while the batch is evaluated: the whole of the first slot, whose 56 bytes straddle two
@@ -495,7 +560,7 @@ void ForceField::pass_with(const Models<Rolling>& m, int threads, int thread, Pa
           }
         }
       }
-      flush_pairs(batch, dt, p, nl, open, worst_ratio, stiff_pair);
+      flush_pairs(batch, dt, p, nl, open, worst_ratio, stiff_pair, ring, ring_mask);
       if (fused && open.slot < n && open.slot > done) complete(done, open.slot), done = open.slot;
     };
     AfterForces::Progress progress;  // the follow-up's, between its calls (AfterForces)
@@ -548,25 +613,43 @@ void ForceField::pass_with(const Models<Rolling>& m, int threads, int thread, Pa
         // alternated, both orders): 10^5 bed +4.6 % on 1 thread, +5.2 % on 2; the poured 2x
         // platform box (84,109 spheres) +3.7 % and +3.1 %; the 10^4 bed +4 %, but the clump bed
         // -3 % (its contacts are mostly an owner's only entry), hence two loops.
-        constexpr std::uint32_t kChunk = 128;
-        std::uint32_t listed[kChunk];
-        for (std::uint32_t first = start[lo], last = start[hi]; first < last; first += kChunk) {
-          const std::uint32_t end = std::min(last, first + kChunk);
+        std::uint32_t listed[kEntryChunk];
+        for (std::uint32_t chunk = start[lo], last = start[hi]; chunk < last; chunk += kEntryChunk) {
+          const std::uint32_t chunk_end = std::min(last, chunk + kEntryChunk);
+          if (ring != nullptr) {
+            // The ring's guard. A share in the ring not read yet has its partner at or after `done`,
+            // so its owner at or after done - ring_reach, and its entry at or after `oldest`: the
+            // shares of this chunk may take their slots only if they lie within a ring of it. Else
+            // the batch is evaluated now and the spheres before this chunk's first owner completed
+            // (all their pairs are in): ring_reach_ keeps that owner's window within half a ring.
+            const std::size_t oldest = start[done >= first + ring_reach ? done - ring_reach : first];
+            if (chunk_end > oldest + ring_size) {
+              if (b > 0) flush(b), b = 0;
+              const std::size_t upto = owner[chunk];
+              if (open.slot < upto) {  // its entries are all in: its sums are complete
+                force[open.slot] = open.force, torque[open.slot] = open.torque;
+                open = {n, {}, {}};
+              }
+              if (upto > done) complete(done, upto), done = upto;
+              assert(chunk_end <= start[done >= first + ring_reach ? done - ring_reach : first] + ring_size);
+            }
+          }
           std::uint32_t found = 0;
           std::uint8_t broken = 0;
-          for (std::uint32_t k = first; k < end; ++k) {
+          for (std::uint32_t k = chunk; k < chunk_end; ++k) {
             prefetch_ahead(k);
             const std::uint32_t i = owner[k], j = partner[k];
             const Vec3 d = x[i] - x[j];
             const double rsum = radius[i] + radius[j];
             const std::uint8_t now = norm2(d) < rsum * rsum;
+            const std::uint8_t in_ring = (j - ring_lo < ring_span) & (j - i <= ring_reach);
             listed[found] = k;
             found += now;
             broken |= touching[k] & (now ^ 1);
-            touching[k] = now;
+            touching[k] = now | static_cast<std::uint8_t>((now & in_ring) << 1);
           }
           if (broken) {  // contacts broken: histories start afresh (an entry apart holds none)
-            for (std::uint32_t k = first; k < end; ++k) {
+            for (std::uint32_t k = chunk; k < chunk_end; ++k) {
               if (touching[k]) continue;
               shear[k] = {};
               if constexpr (Rolling::kSpring) rolling[k] = {};
@@ -589,7 +672,7 @@ void ForceField::pass_with(const Models<Rolling>& m, int threads, int thread, Pa
         if (final_to > ready_to) after->ready(threads, thread, ready_from, final_to, progress), ready_to = final_to;
       }
     }
-    flush_pairs(batch, dt, p, nl, open, worst_ratio, stiff_pair);
+    flush_pairs(batch, dt, p, nl, open, worst_ratio, stiff_pair, ring, ring_mask);
     if (open.slot < n) force[open.slot] = open.force, torque[open.slot] = open.torque;
     if (fused && end > done) complete(done, end);
     // The spheres' shares of the pairs this thread owns are stored: the threads above may complete
@@ -794,7 +877,7 @@ ContactEnergy ForceField::contact_energy(const Particles& p, const NeighborList&
 }
 
 std::size_t ForceField::bytes() const {
-  return partner_share_.capacity() * sizeof(PartnerShare) + touching_.capacity() +
+  return (partner_share_.capacity() + share_ring_.capacity()) * sizeof(PartnerShare) + touching_.capacity() +
          near_walls_.capacity() * sizeof(std::uint32_t) + wall_hints_.capacity() * sizeof(WallGeometry::Hint) +
          wall_slots_.bytes();
 }

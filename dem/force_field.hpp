@@ -5,7 +5,8 @@
 //
 // One sweep over the spheres in blocks, with two fronts. The pair front runs over neighbour-list
 // entries (owner slot in parallel): it sums the owner's share of its contacts and stores the
-// partner's share by entry; the touching pairs it finds are evaluated in batches, vectorised
+// partner's share by entry (in beds beyond the caches, mostly in a ring per thread that stays in
+// the caches: share_ring_entries()); the touching pairs it finds are evaluated in batches, vectorised
 // (dem/pair_batch.hpp), with the same numbers as one at a time. The completion front follows right
 // behind (a pair's owner is its smaller slot, so a sphere the pair front has passed has met all its
 // pairs) and adds, in that fixed order, the partner shares (through the sphere's reverse range of
@@ -74,6 +75,17 @@ struct ContactModels {
 inline std::size_t& beyond_cache_spheres() {
   static std::size_t spheres = 50000;
   return spheres;
+}
+
+/// In beds beyond the caches each thread keeps the partner shares its completion front reads in a
+/// ring of this many entries (a power of two, at least 256; 0: none), not in the array of one share
+/// per list entry: the front reads a share back a few thousand entries after the pair front stored
+/// it, so the ring stays in the caches, where each store to the array waited for its line from
+/// memory. Shares the ring cannot hold until they are read go to the array (ForceField::share_ring_
+/// says which). The same numbers either way; tests set small rings to make the array's part large.
+inline std::size_t& share_ring_entries() {
+  static std::size_t entries = 8192;
+  return entries;
 }
 
 /// The threads of the force loop's team as one of them sees them once its own spheres' forces are
@@ -164,6 +176,10 @@ class ForceField {
                       models_);
   }
   ContactEnergy contact_energy(const Particles& p, const NeighborList& nl, const std::vector<Wall>& walls) const;
+  /// The last compute()'s rings of partner shares: entries per thread (0: none), and how far a pair
+  /// may reach (partner - owner, in slots) and keep its share there (share_ring_entries()).
+  std::size_t share_ring_size() const { return ring_entries_; }
+  std::uint32_t share_ring_reach() const { return ring_entries_ > 0 ? ring_reach_ : 0; }
   std::size_t bytes() const;
 
   /// The spheres [first, last) of `n` that thread t of a team of `team` takes in the force loop: its
@@ -209,6 +225,10 @@ class ForceField {
   int pass_team_ = 1;                                // the team of the last pass (set by its thread 0)
   std::uint64_t pairs_done_ = 0, forces_done_ = 0;  // its epochs (signals_)
 
+  /// What a pair contact puts on its partner j: -force and torque (indexed by entry).
+  struct PartnerShare {
+    Vec3 force, torque;
+  };
   /// Sums of the owner's shares of the sphere whose batched contacts are being added (the pair front).
   struct OwnerSum {
     std::size_t slot;  // >= the sphere count: none yet
@@ -216,7 +236,7 @@ class ForceField {
   };
   template <class Rolling>
   void flush_pairs(PairBatch<Rolling>& b, double dt, Particles& p, NeighborList& nl, OwnerSum& open,
-                   double& worst_ratio, double& stiff_pair);
+                   double& worst_ratio, double& stiff_pair, PartnerShare* ring, std::uint32_t ring_mask);
 
   /// The wall contacts' part of the step's diagnostics, per thread.
   struct WallStats {
@@ -234,13 +254,23 @@ class ForceField {
 
   AnyModels models_;
   std::vector<int> wall_material_;
-  /// What a pair contact puts on its partner j: -force and torque (indexed by entry).
-  struct PartnerShare {
-    Vec3 force, torque;
-  };
   std::vector<PartnerShare> partner_share_;
+  // The rings of partner shares (share_ring_entries()), ring_entries_ per thread, in beds beyond the
+  // caches; ring_entries_ 0 when none is used. An entry's share is kept in its thread's ring, at
+  // [entry & (ring_entries_ - 1)], if its pair is touching, its partner j is completed by the
+  // thread's completion front (not left for after the threads below, nor beyond the thread's range),
+  // and j - i <= ring_reach_ (i its owner): the bit kInRing of touching_[entry] says so. With that
+  // reach, no ring slot is stored again before the share in it is read (pass_with's guard).
+  static constexpr std::uint8_t kInRing = 2;
+  std::vector<PartnerShare> share_ring_;
+  std::size_t ring_entries_ = 0;
+  std::uint32_t ring_reach_ = 0;
+  std::uint64_t ring_generation_ = ~std::uint64_t{0};
+  /// Chooses this step's ring and its reach (begin_with; a loop over the spheres at a new list).
+  void choose_ring(const NeighborList& nl, std::size_t n, int team);
+  bool ring_chosen(const NeighborList& nl, std::size_t n, int team) const;
   // touching_[k]: entry k was in contact at the last compute, so its history may be non-zero and
-  // partner_share_[k] is current. Invariant: touching_[k] == 0 implies a zero history, so a pair
+  // its partner share is current (in partner_share_[k], or in a ring if bit kInRing is set too). Invariant: touching_[k] == 0 implies a zero history, so a pair
   // that stays apart costs no writes to its history (the entry loop for beds in the caches writes
   // nothing for it at all). Rebuilt from the histories when the list changes (generation).
   std::vector<std::uint8_t> touching_;
