@@ -235,7 +235,8 @@ if lig:
 
 print("\n(contacts/sph: sphere-sphere contacts per sphere in the settled bed; the beds are comparable when it is")
 print(" about the same for every N. entries/sph: neighbour-list entries per sphere at the end (grainscale's adaptive")
-print(" skin follows the fastest sphere). steps/build: timed steps per neighbour-list build. KE/sph: kinetic energy")
+print(" skins: the 99th-percentile speed's for most spheres, the fastest 1 % and their neighbours their own).")
+print(" steps/build: timed steps per neighbour-list build. KE/sph: kinetic energy")
 print(" per sphere at the end of the timed steps: a bed still settling (KE/sph well above the others) rebuilds its list")
 print(" more often and costs more per step; settle longer (SETTLE). other load: cores used by other processes")
 print(" meanwhile, > 0.2 disturbs the figure. B/sphere: the arrays grainscale counts (allocated); RSS B/sph: the")
