@@ -11,6 +11,10 @@
 # Environment knobs (all optional):
 #   POURED=0.8       s simulated: end of the pour (grain 0.7 s at 5 kg/s, chaff until 0.35 s); the script
 #                    stops if a pour is unfinished then
+#   TILTED=          s simulated (> POURED): tilt the poured bed on with the study's platform motion, which
+#                    starts at POURED, to this time (untimed, kept as tilted_POURED_TILTED.h5 in OUT), and time
+#                    the steps there. POURED=2.0 TILTED=4.5: the middle of the first rise, where the platform
+#                    turns fastest (0.13 rad/s; the study's later swings reach twice that); ~20 minutes on 2 cores
 #   STEPS=5000       timed steps (5000 x 10 us = 0.05 s simulated)
 #   THREADS=1,2      OpenMP thread counts (one bench process, all from the same poured state)
 #   REPEATS=2        timed bench runs; the fastest per thread count is reported
@@ -31,6 +35,7 @@ STEPS="${STEPS:-5000}"
 THREADS="${THREADS:-1,2}"
 REPEATS="${REPEATS:-2}"
 FRESH="${FRESH:-0}"
+TILTED="${TILTED:-}"
 ALLOW_UNFINISHED="${ALLOW_UNFINISHED:-0}"
 [[ -f "$SRC" ]] || die "missing $SRC"
 mkdir -p "$OUT"
@@ -58,18 +63,35 @@ if [[ "$DONE" != 1 && "$ALLOW_UNFINISHED" != 1 ]]; then
   die "a pour is unfinished at t = $POURED s ($(cat "$OUT/poured.txt")); raise POURED (and FRESH=1)"
 fi
 
+START="$CKPT" TIMED_SCEN="$SCEN"
+if [[ -n "$TILTED" ]]; then
+  python3 -c "import sys; sys.exit(0 if float('$TILTED') > float('$POURED') else 1)" \
+    || die "TILTED=$TILTED must be a time after POURED=$POURED"
+  TIMED_SCEN="$OUT/platform_800mm_tilted.yaml"
+  yaml_with "$SRC" "$TIMED_SCEN" "end=$TILTED" "start_time=$POURED"
+  START="$OUT/tilted_${POURED}_${TILTED}.h5"
+  if [[ "$FRESH" == 1 ]]; then rm -f "$START"; fi
+  if [[ -f "$START" ]]; then
+    say "tilted state from $START (FRESH=1 to tilt again)"
+  else
+    say "tilting the poured bed on to t = $TILTED s (untimed; progress in $OUT/tilt.log) -> $START"
+    run_logged "$OUT/tilt.log" "$GS" bench "$TIMED_SCEN" --steps 1 --threads 1 --from "$CKPT" --settled "$START" \
+      || die "the tilt failed; see $OUT/tilt.log"
+  fi
+fi
+
 for r in $(seq 1 "$REPEATS"); do
   wait_idle
   log="$OUT/timed_r${r}.log"
   say "timed run $r: $STEPS steps on $THREADS thread(s), platform moving -> $log"
-  run_logged "$log" "$GS" bench "$SCEN" --steps "$STEPS" --threads "$THREADS" --settled "$CKPT" \
+  run_logged "$log" "$GS" bench "$TIMED_SCEN" --steps "$STEPS" --threads "$THREADS" --settled "$START" \
     || die "bench failed; see $log"
   grep -E '^threads' "$log" >&2 || die "no 'threads N:' line in $log"
 done
 
-python3 - "$OUT" "$REPEATS" "$SRC" <<'PY' | tee "$OUT/results.txt"
+python3 - "$OUT" "$REPEATS" "$SRC" "$TILTED" <<'PY' | tee "$OUT/results.txt"
 import re, sys
-out, repeats, src = sys.argv[1], int(sys.argv[2]), sys.argv[3]
+out, repeats, src, tilted = sys.argv[1], int(sys.argv[2]), sys.argv[3], sys.argv[4]
 w = open(f"{out}/poured.txt").read().split(); s = dict(zip(w[0::2], w[1::2]))
 dt = float(s["dt_s"])
 frac = re.search(r"step_fraction:\s*([0-9.]+)", open(src).read())
@@ -97,6 +119,8 @@ for th in sorted(best):
     steps, sec, rate, other = best[th]
     per_hour = steps * dt / sec * 3600
     print(f"{th:>7} {steps:>6} {sec:8.2f} {rate:10.3f} {per_hour:14.3f} {1800 / per_hour / 24:10.1f} d {other:>28}")
+if tilted:
+    print(f"(timed from the bed tilted on to t = {tilted} s, the platform turning)")
 print("(best of the repeats; timed with the platform moving, from the poured, not yet fully settled, bed; other load:")
 print(" cores used by other processes meanwhile, > 0.2 disturbs the figure; core round trip: ns a cache line took")
 print(" between the first two CPUs and back just before, bench/core_round_trip.c: what a second thread gains depends on it)")

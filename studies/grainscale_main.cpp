@@ -53,12 +53,13 @@ commands:
         snapshots (+ XDMF for ParaView), summary.yaml and log.txt in the output folder;
         checkpoint.h5 there is updated every output.checkpoint_interval s of wall clock
         and at the end, and --resume continues a stopped run from it, bit for bit
-  bench SCENARIO.yaml [--steps N] [--threads LIST] [--settled CHECKPOINT.h5] [--warmup W]
+  bench SCENARIO.yaml [--steps N] [--threads LIST] [--settled CHECKPOINT.h5] [--from CHECKPOINT.h5] [--warmup W]
         settle the scenario to its end time, then time N further steps (default
         20000) from the same settled state on each thread count in LIST (default
         1,2), after W untimed ones (default 200); prints sphere-steps per second and
         the speed-up. --settled FILE keeps the settled state as a checkpoint: read if
-        it exists, written otherwise
+        it exists, written otherwise. --from FILE settles on from that state (a
+        checkpoint of the same bed at an earlier time) instead of from the insertion
   cg SETTINGS.yaml [--out DIR] [--threads N]
         coarse-grain DEM snapshots into fields in the container frame (HDF5 + XDMF,
         CSV) and the report's measures: chaff per 50 mm slice, top-view coverage,
@@ -124,6 +125,7 @@ struct Args {
   long warmup = 200;  // bench: untimed steps before the timed ones
   bool resume = false;
   std::string settled;  // bench: checkpoint of the settled state (read if present, else written)
+  std::string from;     // bench: a state to settle from instead of the scenario's insertion
   std::vector<std::string> cases;  // calibrate: every --case value
 };
 
@@ -147,6 +149,7 @@ Args parse(int argc, char** argv, int first) {
     else if (s == "--threads") a.threads = value("--threads");
     else if (s == "--resume") a.resume = true;
     else if (s == "--settled") a.settled = value("--settled");
+    else if (s == "--from") a.from = value("--from");
     else if (s == "--case") a.cases.push_back(value("--case"));
     else if (s == "--steps") {
       a.steps = studies::whole_number_option("--steps", value("--steps"));
@@ -221,7 +224,10 @@ int run_bench(const Args& a) {
   // resident growth below is what the copied simulation holds. The timed steps allocate nothing.
   mallopt(M_MMAP_THRESHOLD, 1 << 16);
   mallopt(M_TRIM_THRESHOLD, 1 << 16);
-  if (a.positional.size() != 1) throw InputError("usage: grainscale bench SCENARIO.yaml [--steps N] [--threads LIST] [--settled CHECKPOINT.h5] [--warmup W]");
+  if (a.positional.size() != 1) throw InputError("usage: grainscale bench SCENARIO.yaml [--steps N] [--threads LIST] [--settled CHECKPOINT.h5] [--from CHECKPOINT.h5] [--warmup W]");
+  if (!a.from.empty() && !std::filesystem::is_regular_file(a.from)) {
+    throw InputError("--from: " + a.from + " is not a file (a checkpoint written by `grainscale bench --settled` or `grainscale dem`)");
+  }
   const dem::Scenario sc = dem::load_scenario(a.positional[0]);
   dem::BuiltScenario built = dem::build(sc);
   dem::Simulation* sim = built.sim.get();
@@ -231,8 +237,14 @@ int run_bench(const Args& a) {
   const bool from_checkpoint = !a.settled.empty() && std::filesystem::exists(a.settled);
   if (from_checkpoint) {
     dem::restore_checkpoint(dem::read_checkpoint(a.settled), built);
-    std::cerr << "[bench] settled state from " << a.settled << " (t = " << sim->time() << " s)\n";
+    std::cerr << "[bench] settled state from " << a.settled << " (t = " << sim->time() << " s)"
+              << (a.from.empty() ? "" : "; --from " + a.from + " not used") << "\n";
   } else {
+    // --from: settle on from a state reached before (a poured bed, say, into the tilting that follows).
+    if (!a.from.empty()) {
+      dem::restore_checkpoint(dem::read_checkpoint(a.from), built);
+      std::cerr << "[bench] starting from " << a.from << " (t = " << sim->time() << " s)\n";
+    }
     std::cerr << "[bench] settling to t = " << sc.end_time << " s ...\n";
   }
   double next_report = 0;

@@ -193,3 +193,53 @@ TEST_CASE("grainscale names a bad number in an option (--steps, --warmup, --thre
     CHECK(out.find(c.message) != std::string::npos);
   }
 }
+
+TEST_CASE("grainscale bench --from settles on from an earlier state of the bed, bit for bit as settling straight through",
+          "[study][cli][bench]") {
+  // The reduced study's bed, poured and then tilting from 0.1 s: settled to 0.12 s and kept, then
+  // continued from there to 0.2 s; against settling to 0.2 s in one go. The timed steps from either
+  // settled state must end in the same state (bench prints its fingerprint).
+  const TempDir dir("bench_from");
+  write_reduced_study(dir);
+  const std::string scenario = testing::slurp(dir / "scenario.yaml");
+  const std::string end = "time: {end: 0.5,";
+  REQUIRE(scenario.find(end) != std::string::npos);
+  auto with_end = [&](const std::string& name, const std::string& t) {
+    std::string s = scenario;
+    s.replace(s.find(end), end.size(), "time: {end: " + t + ",");
+    testing::write_text(dir / name, s);
+  };
+  with_end("early.yaml", "0.12");
+  with_end("later.yaml", "0.2");
+  auto bench = [&](const std::string& args) {
+    const std::string cmd = std::string(GRAINSCALE_BINARY) + " bench " + args + " --steps 20 --warmup 0 --threads 1 2>&1";
+    FILE* p = popen(cmd.c_str(), "r");
+    REQUIRE(p != nullptr);
+    std::string out;
+    char buf[512];
+    while (std::fgets(buf, sizeof buf, p)) out += buf;
+    INFO(cmd << "\n" << out);
+    REQUIRE(pclose(p) == 0);
+    const std::size_t at = out.find("fingerprint ");
+    REQUIRE(at != std::string::npos);
+    return std::make_pair(out, out.substr(at + 12, 16));
+  };
+  bench(dir / "early.yaml --settled " + dir / "early.h5");
+  const auto [continued_log, continued] = bench(dir / "later.yaml --from " + dir / "early.h5 --settled " + dir / "later.h5");
+  CHECK(continued_log.find("starting from") != std::string::npos);
+  CHECK(continued_log.find("settled for 0.2 s") != std::string::npos);
+  const auto [straight_log, straight] = bench(dir / "later.yaml --settled " + dir / "straight.h5");
+  CHECK(continued == straight);
+  // A kept settled state is read as before (--from then unused), and a missing one is named.
+  const auto [again_log, again] = bench(dir / "later.yaml --from " + dir / "early.h5 --settled " + dir / "later.h5");
+  CHECK(again == continued);
+  CHECK(again_log.find("not used") != std::string::npos);
+  const std::string missing = dir / "missing.h5";
+  FILE* p = popen((std::string(GRAINSCALE_BINARY) + " bench " + dir / "later.yaml --from " + missing + " 2>&1").c_str(), "r");
+  REQUIRE(p != nullptr);
+  std::string out;
+  char buf[512];
+  while (std::fgets(buf, sizeof buf, p)) out += buf;
+  CHECK(pclose(p) != 0);
+  CHECK(out.find("--from: " + missing + " is not a file") != std::string::npos);
+}
