@@ -119,9 +119,8 @@ for th in sorted(best):
     steps, sec, rate, other = best[th]
     per_hour = steps * dt / sec * 3600
     print(f"{th:>7} {steps:>6} {sec:8.2f} {rate:10.3f} {per_hour:14.3f} {1800 / per_hour / 24:10.1f} d {other:>28}")
-if tilted:
-    print(f"(timed from the bed tilted on to t = {tilted} s, the platform turning)")
-print("(best of the repeats; timed with the platform moving, from the poured, not yet fully settled, bed; other load:")
+start = f"the bed tilted on to t = {tilted} s" if tilted else "the poured, not yet fully settled, bed"
+print(f"(best of the repeats; timed with the platform moving, from {start}; other load:")
 print(" cores used by other processes meanwhile, > 0.2 disturbs the figure; core round trip: ns a cache line took")
 print(" between the first two CPUs and back just before, bench/core_round_trip.c: what a second thread gains depends on it)")
 PY
