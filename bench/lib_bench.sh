@@ -142,6 +142,20 @@ PY
   return $rc
 }
 
+# kept_state WHAT CKPT LOG ARGS...: the state CKPT as an earlier call kept it (FRESH=1: made again), or
+# made now, untimed, by `grainscale bench ARGS... --settled CKPT` (its output in LOG); WHAT names the
+# state in the messages ("poured state", "N = 1000: settled state").
+kept_state() {
+  local what="$1" ckpt="$2" log="$3"; shift 3
+  if [[ "${FRESH:-0}" == 1 ]]; then rm -f "$ckpt"; fi
+  if [[ -f "$ckpt" ]]; then
+    say "$what from $ckpt (FRESH=1 to make it again)"
+  else
+    say "$what: making it (untimed; progress in $log) -> $ckpt"
+    run_logged "$log" "$GS" bench "$@" --settled "$ckpt" || die "making the $what failed; see $log"
+  fi
+}
+
 # yaml_with SRC DST KEY=VALUE ...: copy scenario SRC to DST with the first `KEY: value` outside comments
 # replaced for each KEY (scalars only, e.g. end=0.05 count=500),
 # and the materials/shape/file paths made absolute, so DST runs from any folder.

@@ -46,14 +46,7 @@ rm -f "$OUT"/timed_r*.log* "$OUT/results.txt"
 SCEN="$OUT/platform_800mm_poured.yaml"
 yaml_with "$SRC" "$SCEN" "end=$POURED" "start_time=$POURED"
 CKPT="$OUT/poured_${POURED}.h5"
-if [[ "$FRESH" == 1 ]]; then rm -f "$CKPT"; fi
-if [[ -f "$CKPT" ]]; then
-  say "poured state from $CKPT (FRESH=1 to pour again)"
-else
-  say "pouring the platform_800mm scenario to t = $POURED s (untimed; progress in $OUT/pour.log) -> $CKPT"
-  run_logged "$OUT/pour.log" "$GS" bench "$SCEN" --steps 1 --threads 1 --settled "$CKPT" \
-    || die "the pour failed; see $OUT/pour.log"
-fi
+kept_state "poured state (the scenario poured to t = $POURED s)" "$CKPT" "$OUT/pour.log" "$SCEN" --steps 1 --threads 1
 python3 "$HERE/h5_state.py" "$CKPT" >"$OUT/poured.txt" || die "could not read $CKPT"
 say "poured state: $(cat "$OUT/poured.txt")"
 read -r DONE < <(python3 -c "
@@ -70,14 +63,8 @@ if [[ -n "$TILTED" ]]; then
   TIMED_SCEN="$OUT/platform_800mm_tilted.yaml"
   yaml_with "$SRC" "$TIMED_SCEN" "end=$TILTED" "start_time=$POURED"
   START="$OUT/tilted_${POURED}_${TILTED}.h5"
-  if [[ "$FRESH" == 1 ]]; then rm -f "$START"; fi
-  if [[ -f "$START" ]]; then
-    say "tilted state from $START (FRESH=1 to tilt again)"
-  else
-    say "tilting the poured bed on to t = $TILTED s (untimed; progress in $OUT/tilt.log) -> $START"
-    run_logged "$OUT/tilt.log" "$GS" bench "$TIMED_SCEN" --steps 1 --threads 1 --from "$CKPT" --settled "$START" \
-      || die "the tilt failed; see $OUT/tilt.log"
-  fi
+  kept_state "tilted state (the poured bed tilted on to t = $TILTED s)" "$START" "$OUT/tilt.log" \
+    "$TIMED_SCEN" --steps 1 --threads 1 --from "$CKPT"
 fi
 
 for r in $(seq 1 "$REPEATS"); do

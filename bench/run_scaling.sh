@@ -86,14 +86,8 @@ output: {{directory: out/scaling_unused}}
 """)
 PY
   ckpt="$OUT/settled_${n}.h5"
-  if [[ "$FRESH" == 1 ]]; then rm -f "$ckpt"; fi
-  if [[ -f "$ckpt" ]]; then
-    say "N = $n: settled state from $ckpt (FRESH=1 to settle again)"
-  else
-    say "N = $n: inserting and settling $SETTLE s (untimed) -> $ckpt"
-    run_logged "$OUT/settle_${n}.log" "$GS" bench "$yaml" --steps 1 --threads "$SETTLE_THREADS" --settled "$ckpt" \
-      || die "settling N = $n failed; see $OUT/settle_${n}.log"
-  fi
+  kept_state "N = $n: settled state (inserted and settled $SETTLE s)" "$ckpt" "$OUT/settle_${n}.log" \
+    "$yaml" --steps 1 --threads "$SETTLE_THREADS"
   ran+=("$n")
 done
 (( ${#ran[@]} > 0 )) || die "no size was run"
