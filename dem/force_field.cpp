@@ -499,7 +499,7 @@ void ForceField::pass_with(const Models<Rolling>& m, int threads, int thread, Pa
     // This thread's ring of partner shares (share_ring_), for the spheres its completion front
     // completes, [deferred, end), whose pairs reach no further than ring_reach; the other shares go
     // to partner_share_. A touching entry's flag says where its share is (kInRing).
-    const std::size_t ring_size = fused ? ring_entries_ : 0;
+    const std::size_t ring_size = fused && ring_reach_ > 0 ? ring_entries_ : 0;  // (reach 0: no share fits)
     PartnerShare* const ring = ring_size > 0 ? share_ring_.data() + static_cast<std::size_t>(thread) * ring_size : nullptr;
     const std::uint32_t ring_mask = ring_size > 0 ? static_cast<std::uint32_t>(ring_size - 1) : 0;
     const std::uint32_t ring_reach = ring_size > 0 ? ring_reach_ : 0;  // 0: no pair (partner > owner)

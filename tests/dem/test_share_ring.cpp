@@ -10,7 +10,10 @@
 #include <cstring>
 #include <vector>
 
+#include <random>
+
 #include "barley_box_fixture.hpp"
+#include "list_fixture.hpp"
 #include "parallel_everything.hpp"
 #include "pass_one_loop.hpp"
 
@@ -84,4 +87,55 @@ TEST_CASE("Partner shares kept in a ring give the numbers of shares kept per ent
   const std::vector<double> got = run(ring, threads);
   REQUIRE(got.size() == expected.size());
   CHECK(std::memcmp(got.data(), expected.data(), got.size() * sizeof(double)) == 0);
+}
+
+TEST_CASE("A ring too small for one sphere's entries is left unused, with the same numbers", "[dem][contact][ring]") {
+  // A big sphere with 150 small ones pressed onto it owns 150 entries, more than half a ring of 256
+  // holds: no pair's share can be kept there until it is read, so the ring's reach is 0 and the
+  // shares all go to the array (with a reach of 0 the guard would evaluate the batch early for
+  // nothing). Forces and torques as with no ring.
+  const testing::ParallelEverything every_loop_parallel;
+  const testing::PassOneLoop beyond_the_caches(true);
+  MaterialTable materials;
+  const int m = materials.add({"grain", 1380, 2.6e6, 0.3});
+  materials.set_pair(m, m, {0.5, 0.35, 0.08, true});
+  Particles p;
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(-1, 1);
+  const double big = 0.01, small = 0.001;
+  p.add_sphere(0, m, big, 1380, {0, 0, 0}, {0.01, 0, 0}, {0, 0, 5});
+  for (int s = 1; s <= 150; ++s) {
+    Vec3 dir{u(rng), u(rng), u(rng)};
+    dir = (1.0 / norm(dir)) * dir;
+    p.add_sphere(s, m, small, 1380, (big + small - 2e-5) * dir, 0.05 * Vec3{u(rng), u(rng), u(rng)});
+  }
+  NeighborList nl;
+  testing::build_list(nl, p, 0.0005);
+  REQUIRE(nl.end(0) - nl.begin(0) == 150);
+  const std::vector<Wall> walls;
+  auto forces = [&](std::size_t ring, int threads) {
+    const RingSize size(ring);
+    omp_set_num_threads(threads);
+    Particles q = p;
+    NeighborList l = nl;
+    ForceField ff;
+    ff.setup(materials, walls, RollingSettings{});
+    ff.compute(q, l, walls, 1e-6);
+    omp_set_num_threads(2);
+    if (ring == 256) {
+      CHECK(ff.share_ring_size() == 256);
+      CHECK(ff.share_ring_reach() == 0);
+    }
+    if (ring == 8192) CHECK(ff.share_ring_reach() > 0);
+    std::vector<Vec3> out(q.force);
+    out.insert(out.end(), q.torque.begin(), q.torque.end());
+    return out;
+  };
+  const std::vector<Vec3> expected = forces(0, 1);
+  const int threads = GENERATE(1, 2);
+  for (const std::size_t ring : {std::size_t{256}, std::size_t{8192}}) {
+    INFO("ring of " << ring << " entries, " << threads << " thread(s)");
+    const std::vector<Vec3> got = forces(ring, threads);
+    CHECK(std::memcmp(got.data(), expected.data(), got.size() * sizeof(Vec3)) == 0);
+  }
 }
