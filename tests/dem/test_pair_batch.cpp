@@ -18,6 +18,7 @@
 
 #include "batch_test_support.hpp"
 #include "list_fixture.hpp"
+#include "pressed_spheres_fixture.hpp"
 #include "pass_one_loop.hpp"
 
 using namespace grainscale::dem;
@@ -129,18 +130,10 @@ TEST_CASE("A sphere with more contacts than a batch holds gets the one-at-a-time
   MaterialTable materials;
   const int m = materials.add({"grain", 1380, 2.6e6, 0.3});
   materials.set_pair(m, m, {0.5, 0.35, 0.08, true});
-  Particles p;
   std::mt19937_64 rng(7);
   std::uniform_real_distribution<double> u(-1, 1);
-  const double big = 0.01, small = 0.001, skin = 0.0005, dt = 1e-6;
-  p.add_sphere(0, m, big, 1380, {0, 0, 0}, {0.01, 0, 0}, {0, 0, 5});
-  for (int s = 1; s <= 150; ++s) {
-    Vec3 dir{u(rng), u(rng), u(rng)};
-    dir = (1.0 / norm(dir)) * dir;
-    const double gap = -2e-5 * (1 + u(rng));  // pressed in by up to 40 um
-    p.add_sphere(s, m, small, 1380, (big + small + gap) * dir, 0.05 * Vec3{u(rng), u(rng), u(rng)},
-                 20 * Vec3{u(rng), u(rng), u(rng)});
-  }
+  const double skin = 0.0005, dt = 1e-6;
+  Particles p = grainscale::dem::testing::big_sphere_pressed(m, 150, rng);
   NeighborList nl;
   grainscale::dem::testing::build_list(nl, p, skin);
   for (std::uint32_t k = 0; k < nl.entries(); ++k) {  // loaded springs: some contacts slide

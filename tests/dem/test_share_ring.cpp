@@ -14,6 +14,7 @@
 
 #include "barley_box_fixture.hpp"
 #include "list_fixture.hpp"
+#include "pressed_spheres_fixture.hpp"
 #include "parallel_everything.hpp"
 #include "pass_one_loop.hpp"
 
@@ -99,16 +100,8 @@ TEST_CASE("A ring too small for one sphere's entries is left unused, with the sa
   MaterialTable materials;
   const int m = materials.add({"grain", 1380, 2.6e6, 0.3});
   materials.set_pair(m, m, {0.5, 0.35, 0.08, true});
-  Particles p;
   std::mt19937_64 rng(11);
-  std::uniform_real_distribution<double> u(-1, 1);
-  const double big = 0.01, small = 0.001;
-  p.add_sphere(0, m, big, 1380, {0, 0, 0}, {0.01, 0, 0}, {0, 0, 5});
-  for (int s = 1; s <= 150; ++s) {
-    Vec3 dir{u(rng), u(rng), u(rng)};
-    dir = (1.0 / norm(dir)) * dir;
-    p.add_sphere(s, m, small, 1380, (big + small - 2e-5) * dir, 0.05 * Vec3{u(rng), u(rng), u(rng)});
-  }
+  Particles p = testing::big_sphere_pressed(m, 150, rng);
   NeighborList nl;
   testing::build_list(nl, p, 0.0005);
   REQUIRE(nl.end(0) - nl.begin(0) == 150);
