@@ -163,14 +163,19 @@ bool ForceField::begins_in_team(const Particles& p, const NeighborList& nl, cons
          ring_chosen(nl, n, team);
 }
 
+namespace {
+/// The rings' size for a bed of n spheres: share_ring_entries() beyond the caches, else none.
+std::size_t ring_size_for(std::size_t n) { return n >= beyond_cache_spheres() ? share_ring_entries() : 0; }
+}  // namespace
+
 bool ForceField::ring_chosen(const NeighborList& nl, std::size_t n, int team) const {
-  const std::size_t size = n >= beyond_cache_spheres() ? share_ring_entries() : 0;
+  const std::size_t size = ring_size_for(n);
   return ring_entries_ == size &&
          (size == 0 || (ring_generation_ == nl.generation() && share_ring_.size() >= static_cast<std::size_t>(team) * size));
 }
 
 void ForceField::choose_ring(const NeighborList& nl, std::size_t n, int team) {
-  const std::size_t size = n >= beyond_cache_spheres() ? share_ring_entries() : 0;
+  const std::size_t size = ring_size_for(n);
   assert(size == 0 || (size >= 2 * kEntryChunk && (size & (size - 1)) == 0));
   if (size == 0) {
     ring_entries_ = 0;

@@ -179,7 +179,7 @@ void Simulation::setup() {
   forces_.setup(materials_, walls_, settings_.rolling);
   for (Wall& w : walls_) w.move_to(time_);
   move_spheres_with_bodies();
-  rebuild();
+  rebuild(choose_skins());
   compute_forces(0);
   ready_ = true;
 }
@@ -394,16 +394,17 @@ bool Simulation::skin_check_due() const {
   return settings_.skin > 0 ? skin_ != settings_.skin : steps_ % AdaptiveSkin::kCheckEvery == 0;
 }
 
-bool Simulation::early_rebuild_due() const {
-  if (!skin_check_due()) return false;
-  if (settings_.skin > 0) return true;
+std::optional<Simulation::SkinChoice> Simulation::early_rebuild() const {
+  if (!skin_check_due()) return std::nullopt;
+  const SkinChoice chosen = choose_skins();
+  if (settings_.skin > 0) return chosen;
   // The common skin is what most spheres' entries cost (the few faster ones keep theirs to the build).
-  return AdaptiveSkin::shrink(neighbors_.smallest_skin(), choose_skins().common);
+  if (AdaptiveSkin::shrink(neighbors_.smallest_skin(), chosen.common)) return chosen;
+  return std::nullopt;
 }
 
-void Simulation::rebuild() {
+void Simulation::rebuild(const SkinChoice& skins) {
   forces_.resize(particles_.size());  // wall-contact slots for particles added since the last build
-  const SkinChoice skins = choose_skins();  // own_skin_, in the present slot order
   skin_ = skins.largest;
   const std::vector<std::uint32_t>* sorted = nullptr;
   try {
@@ -917,7 +918,11 @@ bool Simulation::drifted(int team) {
 
 void Simulation::finish_step() {
   // The rest of a step after its drift, outside a region: a list build if due, the forces and sums.
-  if (neighbors_.stale(particles_, moved2_) || early_rebuild_due()) rebuild();
+  if (neighbors_.stale(particles_, moved2_)) {
+    rebuild(choose_skins());
+  } else if (const std::optional<SkinChoice> skins = early_rebuild()) {
+    rebuild(*skins);  // (chosen once: own_skin_ is still theirs)
+  }
   compute_forces(0.5 * dt_);  // and the bodies' sums with the second half kick; the health check
   if (stability_due()) check_stability();
 }

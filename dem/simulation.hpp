@@ -11,6 +11,7 @@
 // Velocity-dependent forces (damping, friction) see the half-step velocities, as in LIGGGHTS. For
 // conservative contacts the scheme is symplectic: energy does not drift (tests/dem/test_conservation).
 #include <cstdint>
+#include <optional>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -151,8 +152,6 @@ class Simulation {
 
  private:
   void check_pairs_in_use(const Particles& p) const;
-  /// A neighbour-list build with the skins chosen now (choose_skins).
-  void rebuild();
   /// The skins for a build (dem/adaptive_skin.hpp): the common one and the largest (a fixed
   /// time.skin: that for both); where they differ, each sphere's own into own_skin_, in the present
   /// slot order.
@@ -160,8 +159,11 @@ class Simulation {
     double common = 0, largest = 0;
   };
   SkinChoice choose_skins() const;
-  bool early_rebuild_due() const;  // a build due before the list is stale (a thinner skin)
-  bool skin_check_due() const;     // whether early_rebuild_due may find one this step
+  /// A neighbour-list build with `skins`, chosen by choose_skins() just before (own_skin_ is theirs).
+  void rebuild(const SkinChoice& skins);
+  /// The skins of a build due before the list is stale (a thinner skin), if one is.
+  std::optional<SkinChoice> early_rebuild() const;
+  bool skin_check_due() const;  // whether early_rebuild may find one this step
   /// Forces, then the bodies' sums (with a half kick if > 0) in the same region; then the health check.
   void compute_forces(double half_kick);
   void check_health();
