@@ -455,6 +455,12 @@ void write_state(ImageWriter& w, const Simulation& sim) {
   w.dataset("/neighbors/partner", nl.partners());
   w.dataset("/neighbors/history", nl.histories());
   if (!nl.skins().empty()) w.dataset("/neighbors/skin", nl.skins());
+  if (nl.frame().in_wall()) {  // (dem/list_frame.hpp; none: the world's)
+    const WallPose& f = nl.frame().at_build;
+    w.attribute<std::int32_t>("/neighbors", "frame_wall", nl.frame().wall);
+    w.dataset("/neighbors/frame_at_build", std::vector<double>{f.origin.x, f.origin.y, f.origin.z, f.orientation.w,
+                                                                f.orientation.x, f.orientation.y, f.orientation.z});
+  }
 
   // Only the wall-contact slots in use (the others are never read).
   const ForceField& ff = sim.force_field();
@@ -650,6 +656,13 @@ Checkpoint read_checkpoint(const std::string& path) {
     // (Files written before 2026-12-06 have none: one skin for all, the attribute's.)
     if (r.has("/neighbors/skin") && !s.neighbor_start.empty()) {
       s.neighbor_skin = r.dataset<double>("/neighbors/skin", s.neighbor_start.size() - 1);
+    }
+    // (Files written before 2026-12-06's afternoon, and lists measured in the world, have none.)
+    if (r.has_attribute("/neighbors", "frame_wall")) {
+      s.neighbor_frame_wall = r.attribute<std::int32_t>("/neighbors", "frame_wall");
+      const std::vector<double> f = r.dataset<double>("/neighbors/frame_at_build", 7);
+      s.neighbor_frame_at_build.origin = {f[0], f[1], f[2]};
+      s.neighbor_frame_at_build.orientation = {f[3], f[4], f[5], f[6]};
     }
 
     s.wall_count = r.dataset<std::uint8_t>("/wall_contacts/count");

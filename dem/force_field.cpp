@@ -159,7 +159,7 @@ bool ForceField::begins_in_team(const Particles& p, const NeighborList& nl, cons
   const std::size_t n = p.size(), entries = nl.entries();
   return list_generation_ == nl.generation() && touching_.size() == entries && partner_share_.size() == entries &&
          wall_slots_.stride() == n && block_cost_.size() == (n + kPassBlock - 1) / kPassBlock &&
-         pass_stats_.size() >= static_cast<std::size_t>(team) && signals_.size() >= team && walls_where_found(walls) &&
+         pass_stats_.size() >= static_cast<std::size_t>(team) && signals_.size() >= team && walls_where_found(walls, nl.frame()) &&
          ring_chosen(nl, n, team);
 }
 
@@ -349,7 +349,7 @@ void ForceField::begin_with(const Models<Rolling>& /*the rolling model's type on
     list_generation_ = nl.generation();
     find_near_walls(p, walls, nl, true);
     split_stale_ = true;
-  } else if (!walls_where_found(walls)) {
+  } else if (!walls_where_found(walls, nl.frame())) {
     find_near_walls(p, walls, nl, false);
     split_stale_ = true;
   }
@@ -732,22 +732,26 @@ void ForceField::find_near_walls(const Particles& p, const std::vector<Wall>& wa
                                  bool at_build) {
   // Sphere i may touch wall w before the masks are made again only if, seen from the wall's frame,
   // it is now within r_i + reach of the wall, where reach covers
-  //   - the sphere's own travel: at most skin/2 from where the list was built; so at most skin/2
-  //     from where it is now at a build, a whole skin between builds; plus half a skin for round-off;
-  //   - the wall's travel: a moving wall gets kMovingWallMargin; the masks are made again once some
-  //     point of the region the spheres occupy has moved that far in the wall's frame
-  //     (walls_where_found). A static wall's margin is 0: any new pose means new masks.
+  //   - the sphere's own travel in the list's frame (dem/list_frame.hpp): at most skin/2 from where
+  //     the list was built; so at most skin/2 from where it is now at a build, a whole skin between
+  //     builds; plus half a skin for round-off;
+  //   - the wall's travel in the list's frame: a wall that moves there (one with a motion, or any
+  //     wall but the frame's own once the frame is a moving container's) gets kMovingWallMargin; the
+  //     masks are made again once some point of the region the spheres occupy in the list's frame
+  //     has moved that far in the wall's frame (walls_where_found). A wall at rest in the list's
+  //     frame has margin 0: any new pose means new masks.
   // Every wall is asked for a stray with slack (it may move further than skin/2 before the next
   // build), and walls beyond the mask always.
   const double skin = nl.skin();
   const double travel = (at_build ? 1.0 : 1.5) * skin;
   const std::vector<double>& slack = nl.slack2();
+  const ListFrame& frame = nl.frame();
   const std::size_t n = p.size();
   const std::size_t masked = std::min(walls.size(), kMaskedWalls);
   near_walls_.resize(n);
   mask_margin_.assign(masked, 0.0);
   for (std::size_t w = 0; w < masked; ++w) {
-    if (walls[w].moving()) mask_margin_[w] = kMovingWallMargin * skin;
+    if (moves_in_frame(walls[w], frame)) mask_margin_[w] = kMovingWallMargin * skin;
   }
   double lox = kInf, loy = kInf, loz = kInf, hix = -kInf, hiy = -kInf, hiz = -kInf;
 #pragma omp parallel for if(n >= parallel_min_items()) schedule(static) reduction(min : lox, loy, loz) \
@@ -757,9 +761,9 @@ void ForceField::find_near_walls(const Particles& p, const std::vector<Wall>& wa
     if (i < slack.size() && slack[i] > 0) {
       near = ~0u;
     } else {
-      const Vec3 x = p.x[i];
-      lox = std::min(lox, x.x), loy = std::min(loy, x.y), loz = std::min(loz, x.z);
-      hix = std::max(hix, x.x), hiy = std::max(hiy, x.y), hiz = std::max(hiz, x.z);
+      const Vec3 y = frame.to_frame(p.x[i]);
+      lox = std::min(lox, y.x), loy = std::min(loy, y.y), loz = std::min(loz, y.z);
+      hix = std::max(hix, y.x), hiy = std::max(hiy, y.y), hiz = std::max(hiz, y.z);
     }
     for (std::size_t w = 0; w < masked; ++w) {
       if (near >> w & 1u) continue;
@@ -779,19 +783,22 @@ void ForceField::find_near_walls(const Particles& p, const std::vector<Wall>& wa
   if (at_build || wall_hints_.size() != n * hinted_walls_) wall_hints_.assign(n * hinted_walls_, WallGeometry::kNoHint);
   mask_poses_.clear();
   for (const Wall& w : walls) mask_poses_.push_back(w.pose());
+  mask_frame_ = frame;
 }
 
-bool ForceField::walls_where_found(const std::vector<Wall>& walls) const {
-  // The masks hold while no point of the spheres' region (the box around their positions when the
-  // masks were made) has moved further than the wall's margin in the wall's frame. The distance
-  // |P^-1 y - P0^-1 y| between where a world point y sits in the wall's frame now (P) and then (P0)
-  // is convex in y (the difference of two rigid maps is affine), so its largest value over the box
-  // is at a corner. A wall added, or one that started or stopped moving, needs new masks too.
-  if (mask_poses_.size() != walls.size() || near_walls_.empty()) return false;
+bool ForceField::walls_where_found(const std::vector<Wall>& walls, const ListFrame& frame) const {
+  // The masks hold while no point of the spheres' region (the box around their positions in the
+  // list's frame when the masks were made) has moved further than the wall's margin in the wall's
+  // frame. The distance |P^-1 G y - P0^-1 G0 y| between where a point y of the list's frame sits in
+  // the wall's frame now (wall pose P, list frame G) and then (P0, G0) is convex in y (the
+  // difference of two rigid maps is affine), so its largest value over the box is at a corner. (In
+  // the world's frame G = G0 = 1; a wall fixed in the list's frame has P^-1 G = P0^-1 G0.) A wall
+  // added, one that started or stopped moving, or a new frame needs new masks too.
+  if (mask_poses_.size() != walls.size() || near_walls_.empty() || mask_frame_.wall != frame.wall) return false;
   const std::size_t masked = std::min(walls.size(), kMaskedWalls);
   if (mask_region_lo_.x > mask_region_hi_.x) return true;  // no sphere outside the strays
   for (std::size_t w = 0; w < masked; ++w) {
-    if ((mask_margin_[w] > 0) != walls[w].moving()) return false;
+    if ((mask_margin_[w] > 0) != moves_in_frame(walls[w], frame)) return false;
     const WallPose& now = walls[w].pose();
     const WallPose& then = mask_poses_[w];
     double shift2 = 0;
@@ -799,7 +806,7 @@ bool ForceField::walls_where_found(const std::vector<Wall>& walls) const {
       const Vec3 y{corner & 1 ? mask_region_hi_.x : mask_region_lo_.x,
                    corner & 2 ? mask_region_hi_.y : mask_region_lo_.y,
                    corner & 4 ? mask_region_hi_.z : mask_region_lo_.z};
-      shift2 = std::max(shift2, norm2(now.to_body(y) - then.to_body(y)));
+      shift2 = std::max(shift2, norm2(now.to_body(frame.to_world(y)) - then.to_body(mask_frame_.to_world(y))));
     }
     if (!(shift2 <= mask_margin_[w] * mask_margin_[w])) return false;
   }

@@ -193,7 +193,7 @@ class ForceField {
   /// else nullptr. Lets other per-contact loops (the step-stability monitor) skip walls out of reach
   /// as the force loop does, finding the same contacts.
   const std::uint32_t* near_wall_masks(const std::vector<Wall>& walls, const NeighborList& nl, std::size_t n) const {
-    const bool hold = list_generation_ == nl.generation() && near_walls_.size() == n && walls_where_found(walls);
+    const bool hold = list_generation_ == nl.generation() && near_walls_.size() == n && walls_where_found(walls, nl.frame());
     return hold ? near_walls_.data() : nullptr;
   }
   /// True if `masks` (from near_wall_masks, may be null) rule out any contact of particle i with wall w.
@@ -294,7 +294,8 @@ class ForceField {
   std::vector<std::uint32_t> near_walls_;
   std::vector<WallPose> mask_poses_;    // the walls' poses when the masks were made
   std::vector<double> mask_margin_;     // and their margins (0: static)
-  Vec3 mask_region_lo_, mask_region_hi_;  // box around the spheres (strays aside) then
+  Vec3 mask_region_lo_, mask_region_hi_;  // box around the spheres (strays aside) then, in the list's frame
+  ListFrame mask_frame_;                  // the list's frame then
   // Each sphere's hint for each wall whose geometry uses one (WallGeometry::Hint): wall_hints_[i *
   // hinted_walls_ + hint_index_[w]], hint_index_[w] -1 for a wall without. A hint is checked on use
   // (the mesh's names its cell), but belongs to its wall's geometry: walls are only appended, so
@@ -304,7 +305,10 @@ class ForceField {
   std::size_t hinted_walls_ = 0;
   /// at_build: the list was just built, so every sphere is where the list has it.
   void find_near_walls(const Particles& p, const std::vector<Wall>& walls, const NeighborList& nl, bool at_build);
-  bool walls_where_found(const std::vector<Wall>& walls) const;
+  bool walls_where_found(const std::vector<Wall>& walls, const ListFrame& frame) const;
+  /// Whether wall w may move in the list's frame: it has a motion, or the frame is a moving wall's
+  /// (the frame's own wall then moves with it, but is not told apart: its shift is 0 to round-off).
+  static bool moves_in_frame(const Wall& w, const ListFrame& frame) { return w.moving() || frame.in_wall(); }
   /// Some wall may touch sphere i before the masks are made again (of `walls` walls).
   bool wall_in_reach(std::size_t i, std::size_t walls) const { return near_walls_[i] != 0 || walls > kMaskedWalls; }
   // Wall-contact histories, this step's and last step's (double buffer: no copy of a sphere's old

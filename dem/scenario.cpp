@@ -144,6 +144,9 @@ Scenario load_scenario(const std::string& file) {
   s.settings.time_step = t.number_or("step", 0.0, Range::non_negative());
   s.settings.time_step_fraction = t.number_or("step_fraction", 0.2, {0, 1, true, false});
   s.settings.skin = t.number_or("skin", 0.0, Range::non_negative());
+  s.settings.list_frame = t.choice_or("list_frame", "auto", {"auto", "world"}) == "world"
+                              ? SimulationSettings::ListFrameChoice::world
+                              : SimulationSettings::ListFrameChoice::automatic;
   s.pour_interval = t.number_or("pour_interval", 0.01, Range::positive());
   s.settle_kinetic_energy = t.number_or("settle_kinetic_energy", 0.0, Range::non_negative());
   s.settings.stability_interval = static_cast<int>(t.integer_or("stability_interval", 20, 0, 1000000));  // 0: never
@@ -223,6 +226,8 @@ std::vector<std::string> scenario_fingerprint(const Scenario& s) {
   line("time.step", exact(st.time_step));
   line("time.step_fraction", exact(st.time_step_fraction));
   line("time.skin", exact(st.skin));
+  // (Only where it is not the default, so that states written before the key existed still match.)
+  if (st.list_frame == SimulationSettings::ListFrameChoice::world) line("time.list_frame", "world");
   line("time.pour_interval", exact(s.pour_interval));
   line("time.stability_interval", std::to_string(st.stability_interval));
   // Motions are compared through where they put the wall at these times (s): spread over the

@@ -178,6 +178,7 @@ void Simulation::setup() {
   }
   forces_.setup(materials_, walls_, settings_.rolling);
   for (Wall& w : walls_) w.move_to(time_);
+  frame_follows_walls();
   move_spheres_with_bodies();
   rebuild(choose_skins());
   compute_forces(0);
@@ -312,6 +313,22 @@ void Simulation::restore(SimulationState&& s) {
   NeighborList nl;
   nl.restore(p, s.skin, std::move(s.neighbor_skin), std::move(s.neighbor_start), std::move(s.neighbor_partner),
              std::move(s.neighbor_history), s.neighbor_builds);
+  if (s.neighbor_frame_wall < -1) bad("the neighbour list's frame wall must be -1 (the world) or a wall's index");
+  if (s.neighbor_frame_wall >= 0) {
+    // Any rigid frame keeps the list exact (dem/list_frame.hpp), so that of a wall that has no
+    // motion under this scenario would do; a wall that is not there would not.
+    if (static_cast<std::size_t>(s.neighbor_frame_wall) >= walls_.size()) {
+      bad("the neighbour list is measured in the frame of wall " + std::to_string(s.neighbor_frame_wall) +
+          ", but there are " + std::to_string(walls_.size()) + " walls");
+    }
+    const WallPose& at_build = s.neighbor_frame_at_build;
+    const Quat& q = at_build.orientation;
+    const double q2 = q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z;
+    if (!is_finite(at_build.origin) || !(std::abs(q2 - 1) <= 1e-9)) {
+      bad("the neighbour list's frame at its build must have a finite origin and a unit orientation");
+    }
+    nl.set_frame({s.neighbor_frame_wall, at_build, at_build});
+  }
   ForceField ff;
   ff.restore_wall_contacts(s.wall_count, s.wall_slots, walls_.size());
 
@@ -338,45 +355,82 @@ void Simulation::restore(SimulationState&& s) {
   renumber_bodies();
   index_spheres_by_body();
   for (Wall& w : walls_) w.move_to(time_);
+  frame_follows_walls();
   ready_ = true;
+}
+
+int Simulation::container_wall() const {
+  for (std::size_t w = 0; w < walls_.size(); ++w) {
+    if (walls_[w].moving()) return static_cast<int>(w);
+  }
+  return -1;
+}
+
+FrameShift Simulation::frame_shift_at(double t) const {
+  const ListFrame& f = neighbors_.frame();
+  return f.in_wall() ? f.shift_to(walls_[f.wall].pose_at(t)) : FrameShift{};
+}
+
+void Simulation::frame_follows_walls() {
+  const ListFrame& f = neighbors_.frame();
+  if (f.in_wall()) neighbors_.set_frame_now(walls_[f.wall].pose());
 }
 
 Simulation::SkinChoice Simulation::choose_skins() const {
   const Particles& p = particles_;
   const std::size_t n = p.size();
-  if (settings_.skin > 0) return {settings_.skin, settings_.skin};
-  // Each sphere's speed (strays with slack left out: they may outrun the skin anyway,
-  // NeighborList::slack2; -1 marks them), and the largest radius present for the default bound.
+  // The list's frame (dem/list_frame.hpp): the container's where the spheres' common speed (below)
+  // is lower there than in the world, so that a bed carried by its box lasts a list the longer.
+  const int wall = settings_.list_frame == SimulationSettings::ListFrameChoice::world ? -1 : container_wall();
+  if (settings_.skin > 0 && wall < 0) return {settings_.skin, settings_.skin, -1};
+  // Each sphere's speed, in the world and relative to the container (strays with slack left out:
+  // they may outrun the skin anyway, NeighborList::slack2; -1 marks them), and the largest radius
+  // present for the default bound.
   const double* slack = neighbors_.slack2().data();
   const std::size_t slack_n = neighbors_.slack2().size();
+  const WallPose* container = wall >= 0 ? &walls_[wall].pose() : nullptr;
   speed2_.resize(n);
+  if (container) frame_speed2_.resize(n);
   double r_max = 0;
 #pragma omp parallel for if(n >= parallel_min_items()) schedule(static) reduction(max : r_max)
   for (std::size_t s = 0; s < n; ++s) {
     r_max = std::max(r_max, p.radius[s]);
     const bool stray = s < slack_n && slack[s] > 0;
     speed2_[s] = stray ? -1.0 : norm2(p.v[s]);
+    if (container) frame_speed2_[s] = stray ? -1.0 : norm2(p.v[s] - container->surface_velocity(p.x[s]));
   }
   const double skin_max = settings_.skin_max > 0 ? settings_.skin_max : 0.2 * r_max;
   // The common skin follows the speed that all but the fastest AdaptiveSkin::kFastShare of the
   // spheres keep under; those faster get their own (the same bits as one skin for all where even the
-  // fastest's skin is the floor).
-  skin_scratch_.clear();
-  bool finite = true;
-  for (std::size_t s = 0; s < n; ++s) {
-    finite = finite && std::isfinite(speed2_[s]);
-    if (speed2_[s] >= 0) skin_scratch_.push_back(speed2_[s]);
-  }
-  // (A blown-up state's velocities may not be finite: keep to the bound, the sort reports it.)
-  if (!finite) return {skin_max, skin_max};
-  double v2_common = 0;
-  if (!skin_scratch_.empty()) {
+  // fastest's skin is the floor). NaN if some speed is not finite.
+  auto common_speed2 = [&](const std::vector<double>& speed2) {
+    skin_scratch_.clear();
+    bool finite = true;
+    for (std::size_t s = 0; s < n; ++s) {
+      finite = finite && std::isfinite(speed2[s]);
+      if (speed2[s] >= 0) skin_scratch_.push_back(speed2[s]);
+    }
+    if (!finite) return std::numeric_limits<double>::quiet_NaN();
+    if (skin_scratch_.empty()) return 0.0;
     const std::size_t m = skin_scratch_.size();
     const std::size_t faster = static_cast<std::size_t>(AdaptiveSkin::kFastShare * static_cast<double>(m - 1));
     const auto k = skin_scratch_.begin() + static_cast<std::ptrdiff_t>(m - 1 - faster);
     std::nth_element(skin_scratch_.begin(), k, skin_scratch_.end());
-    v2_common = *k;
+    return *k;
+  };
+  double v2_common = common_speed2(speed2_);
+  int frame_wall = -1;
+  if (container) {
+    const double v2_frame = common_speed2(frame_speed2_);
+    if (v2_frame < v2_common) {  // (false for NaN: a blown-up state keeps to the world)
+      v2_common = v2_frame;
+      frame_wall = wall;
+      speed2_.swap(frame_speed2_);
+    }
   }
+  if (settings_.skin > 0) return {settings_.skin, settings_.skin, frame_wall};
+  // (A blown-up state's velocities may not be finite: keep to the bound, the sort reports it.)
+  if (!std::isfinite(v2_common)) return {skin_max, skin_max, frame_wall};
   const double common = AdaptiveSkin::choose(std::sqrt(v2_common), dt_, skin_max);
   own_skin_.resize(n);
   double largest = common;
@@ -385,7 +439,7 @@ Simulation::SkinChoice Simulation::choose_skins() const {
     own_skin_[s] = speed2_[s] > v2_common ? AdaptiveSkin::choose(std::sqrt(speed2_[s]), dt_, skin_max) : common;
     largest = std::max(largest, own_skin_[s]);
   }
-  return {common, largest};
+  return {common, largest, frame_wall};
 }
 
 bool Simulation::skin_check_due() const {
@@ -429,6 +483,9 @@ void Simulation::rebuild(const SkinChoice& skins) {
     neighbors_.spread_to_adjacent_cells(particles_, skin_scratch_, skins.common, own_skin_);
     neighbors_.build(particles_, own_skin_, order);
   }
+  ListFrame frame;
+  if (skins.frame_wall >= 0) frame = {skins.frame_wall, walls_[skins.frame_wall].pose(), walls_[skins.frame_wall].pose()};
+  neighbors_.set_frame(frame);
   index_spheres_by_body();
 }
 
@@ -472,15 +529,17 @@ inline Vec3 body_angular_velocity(const Quat& q, const Vec3& L, const Vec3& iner
 }
 
 /// Sphere s follows its body: x_s = x_b + R(q_b) offset_s, v_s = v_b + omega_b x (x_s - x_b),
-/// omega_s = omega_b. Returns the squared displacement since the last neighbour build, less the
+/// omega_s = omega_b. Returns the squared displacement since the last neighbour build in the list's
+/// frame (`shift`: where the build's position is now if fixed in that frame), less the
 /// sphere's slack (a stray's, NeighborList::slack2: `slack` has `slack_n` entries, 0 beyond).
-inline double follow_body(Particles& p, const Bodies& b, std::size_t s, const double* slack, std::size_t slack_n) {
+inline double follow_body(Particles& p, const Bodies& b, std::size_t s, const double* slack, std::size_t slack_n,
+                          const FrameShift& shift) {
   const std::uint32_t k = p.body[s];
   const Vec3 r = rotate(b.q[k], p.offset[s]);
   p.x[s] = b.x[k] + r;
   p.v[s] = b.v[k] + cross(b.omega[k], r);
   p.omega[s] = b.omega[k];
-  const double moved2 = norm2(p.x[s] - p.x_at_build[s]);
+  const double moved2 = norm2(p.x[s] - shift(p.x_at_build[s]));
   return s < slack_n ? moved2 - slack[s] : moved2;
 }
 }  // namespace
@@ -638,9 +697,10 @@ void Simulation::move_spheres_with_bodies() {
   double moved2 = 0;
   const double* slack = neighbors_.slack2().data();
   const std::size_t slack_n = neighbors_.slack2().size();
+  const FrameShift shift = frame_shift_at(time_);
 #pragma omp parallel for if(n >= parallel_min_items()) schedule(static) reduction(max : moved2)
   for (std::size_t s = 0; s < n; ++s) {
-    moved2 = std::max(moved2, follow_body(p, bodies_, s, slack, slack_n));
+    moved2 = std::max(moved2, follow_body(p, bodies_, s, slack, slack_n, shift));
     p.q[s] = bodies_.q[p.body[s]];
   }
   moved2_ = moved2;
@@ -805,7 +865,11 @@ double Simulation::drift_part(int team, int thread, double dt, std::uint64_t epo
     turn(body_first, body_last);
 #pragma omp barrier
   }
-  for (std::size_t s = sphere_first; s < sphere_last; ++s) moved2 = std::max(moved2, follow_body(p, b, s, slack, slack_n));
+  // (The list's frame where the spheres will be, at the step's end; the walls move there after the drift.)
+  const FrameShift shift = frame_shift_at(time_ + dt);
+  for (std::size_t s = sphere_first; s < sphere_last; ++s) {
+    moved2 = std::max(moved2, follow_body(p, b, s, slack, slack_n, shift));
+  }
   return moved2;
 }
 
@@ -910,6 +974,7 @@ bool Simulation::drifted(int team) {
   time_ += dt_;
   ++steps_;
   for (Wall& w : walls_) w.move_to(time_);
+  frame_follows_walls();
   if (neighbors_.stale(particles_, moved2_) || skin_check_due()) return false;
   if (!forces_.begins_in_team(particles_, neighbors_, walls_, team)) return false;
   forces_.begin(particles_, neighbors_, walls_, team);

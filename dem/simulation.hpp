@@ -38,6 +38,11 @@ struct SimulationSettings {
   double time_step_fraction = 0.2;  // of the smallest Rayleigh time among the particles
   double skin = 0;                  // m; > 0: fixed; 0 = adaptive, chosen at each list build (dem/adaptive_skin.hpp)
   double skin_max = 0;              // m; largest adaptive skin; 0 = 0.2 x the largest radius present
+  // The frame the neighbour list measures travel in (dem/list_frame.hpp): chosen at each build (the
+  // first moving wall's where the spheres move less there), or always the world's (as before
+  // 2026-12-06's afternoon: for comparisons).
+  enum class ListFrameChoice { automatic, world };
+  ListFrameChoice list_frame = ListFrameChoice::automatic;
   RollingSettings rolling;
   double max_overlap_ratio = 0.3;   // overlap / radius that stops the run as a blow-up
   double scale_factor = 1;          // particle scale factor (metadata, written to every snapshot)
@@ -71,6 +76,8 @@ struct SimulationState {
   std::vector<std::uint32_t> neighbor_start, neighbor_partner;  // NeighborList::starts(), partners()
   std::vector<ContactHistory> neighbor_history;
   std::vector<double> neighbor_skin;      // NeighborList::skins() (empty: all `skin`)
+  int neighbor_frame_wall = -1;           // NeighborList::frame(): its wall (-1: the world)
+  WallPose neighbor_frame_at_build;       // and that wall's pose at the build (its origin, orientation)
   std::vector<std::uint8_t> wall_count;   // per slot: wall contacts in use
   std::vector<WallSlot> wall_slots;       // those contacts, slot by slot (sum of wall_count)
   ForceDiagnostics diagnostics;           // of the last force computation
@@ -157,7 +164,14 @@ class Simulation {
   /// slot order.
   struct SkinChoice {
     double common = 0, largest = 0;
+    int frame_wall = -1;  // the list's frame (dem/list_frame.hpp): a wall's, or the world's (-1)
   };
+  /// The wall whose frame a list may be measured in: the first with a motion (-1 if none).
+  int container_wall() const;
+  /// The list's frame shift (dem/list_frame.hpp) for spheres at time t, its wall's pose then.
+  FrameShift frame_shift_at(double t) const;
+  /// Keep the list frame's present pose that of its wall (after the walls have moved).
+  void frame_follows_walls();
   SkinChoice choose_skins() const;
   /// A neighbour-list build with `skins`, chosen by choose_skins() just before (own_skin_ is theirs).
   void rebuild(const SkinChoice& skins);
@@ -235,6 +249,7 @@ class Simulation {
   // Scratch of choose_skins and rebuild (per sphere): the skins chosen, their speeds squared, the
   // skins in the new slot order.
   mutable std::vector<double> own_skin_, speed2_, skin_scratch_;
+  mutable std::vector<double> frame_speed2_;  // each sphere's speed squared in the container's frame
   std::vector<std::uint32_t> body_fill_;  // scratch for index_spheres_by_body
   TeamSignals step_signals_;  // a step's waits: bodies that cross a cut (drift_part), the meets (steps_in_region)
   struct alignas(64) ThreadValue {

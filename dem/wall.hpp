@@ -57,6 +57,7 @@ struct WallPose {
   Vec3 angular_velocity;
 
   Vec3 to_body(const Vec3& p) const { return rotate(conjugate(orientation), p - origin); }
+  Vec3 to_world(const Vec3& p) const { return origin + rotate(orientation, p); }
   Vec3 direction_to_world(const Vec3& d) const { return rotate(orientation, d); }
   Vec3 surface_velocity(const Vec3& p) const { return velocity + cross(angular_velocity, p - origin); }
 };
@@ -122,13 +123,21 @@ class Wall {
   /// orientation = R q_rest, and the body-frame origin moves with d' + omega x (origin - pivot - d).
   void move_to(double t) {
     if (!motion_.profile) return;
+    pose_ = pose_at(t, &phase_);
+  }
+  /// Where move_to(t) would put the wall (its pose now, without a motion), leaving it where it is;
+  /// `phase`, if given, receives the motion's phase then.
+  WallPose pose_at(double t, double* phase = nullptr) const {
+    if (!motion_.profile) return pose_;
     const RigidMotionState s = motion_.profile->at(t);
     const Vec3 arm = rotate(s.rotation, rest_.origin - motion_.pivot);
-    pose_.origin = motion_.pivot + s.displacement + arm;
-    pose_.orientation = s.rotation * rest_.orientation;
-    pose_.angular_velocity = s.angular_velocity;
-    pose_.velocity = s.velocity + cross(s.angular_velocity, arm);
-    phase_ = s.phase;
+    WallPose p;
+    p.origin = motion_.pivot + s.displacement + arm;
+    p.orientation = s.rotation * rest_.orientation;
+    p.angular_velocity = s.angular_velocity;
+    p.velocity = s.velocity + cross(s.angular_velocity, arm);
+    if (phase) *phase = s.phase;
+    return p;
   }
 
  private:

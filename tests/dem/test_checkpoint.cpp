@@ -17,6 +17,7 @@
 #include "dem/scenario.hpp"
 #include "dem/snapshot.hpp"
 #include "parallel_everything.hpp"
+#include "turning_box_fixture.hpp"
 
 using namespace grainscale;
 using namespace grainscale::dem;
@@ -152,6 +153,37 @@ TEST_CASE("A run whose spheres have skins of their own continues bit for bit fro
     CHECK(second.neighbors().slack2() == first.neighbors().slack2());
   });
   CHECK(builds > 0);  // the restored skins were used
+  omp_set_num_threads(2);
+}
+
+TEST_CASE("A list measured in a turning box's frame continues bit for bit from a checkpoint",
+          "[dem][checkpoint][neighbor][frame]") {
+  // The box's pose at the build (/neighbors/frame_at_build, dem/list_frame.hpp) decides when the list
+  // is rebuilt, so a restore must give it back exactly.
+  const testing::ParallelEverything guard;
+  const int threads = GENERATE(1, 2);
+  omp_set_num_threads(threads);
+  // The bed settled in the turning box (the list then in the box's frame), once for every bed().
+  const testing::CheckpointTempDir dir;
+  {
+    Simulation sim = testing::turning_box(SimulationSettings{}, 0.0, 0.26);
+    sim.setup();
+    sim.run_steps(static_cast<std::uint64_t>(0.25 / sim.dt()));
+    write_checkpoint(dir / "settled.h5", sim);
+  }
+  auto bed = [&] {
+    Simulation sim = testing::turning_box(SimulationSettings{}, 0.0, 0.26);
+    restore_checkpoint(read_checkpoint(dir / "settled.h5"), sim);
+    return sim;
+  };
+  const std::size_t builds = restarted_halfway(bed, 1500, [](const Simulation& first, const Simulation& second) {
+    REQUIRE(first.neighbors().frame().in_wall());
+    CHECK(second.neighbors().frame().wall == first.neighbors().frame().wall);
+    const WallPose &a = first.neighbors().frame().at_build, &b = second.neighbors().frame().at_build;
+    CHECK(std::memcmp(&a.origin, &b.origin, sizeof(Vec3)) == 0);
+    CHECK(std::memcmp(&a.orientation, &b.orientation, sizeof(Quat)) == 0);
+  });
+  CHECK(builds > 0);
   omp_set_num_threads(2);
 }
 
