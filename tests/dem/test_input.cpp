@@ -144,6 +144,7 @@ TEST_CASE("Bad scenarios are rejected with file, line, key and range", "[dem][in
   };
   const Case c = GENERATE(
       Case{"end: 0.01", "end: -1", "time.end"}, Case{"end: 0.01", "end: 0.01, stp: 1", "unknown key 'time.stp'"},
+      Case{"end: 0.01", "end: 0.01, list_frame: box", "time.list_frame"},
       Case{"open: [+z]", "open: [top]", "'top' is not allowed"}, Case{"type: box", "type: sphere", "choose one of"},
       Case{"material: wall}", "material: steel}", "unknown material 'steel'"},
       Case{"count: 50", "count: 50, mass: 1", "exactly one of"},
