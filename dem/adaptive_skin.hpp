@@ -33,6 +33,8 @@
 // A list that is never stale (a bed come to rest) would keep the skins of its build for ever, so
 // every kCheckEvery steps (counted from the start: restarts see the same steps) the common skin is
 // chosen again, and the list rebuilt if it is under half the build's.
+// Speeds are taken in the list's frame (dem/list_frame.hpp): a bed carried by its turning box is
+// slow there, however fast the box moves.
 // The choice affects cost only, never which contacts are found: the list is rebuilt whenever a
 // sphere has moved half its skin of the build, whatever that skin was. It depends only on the state
 // at the build (no timers, no thread count), so runs stay reproducible bit for bit, checkpoints included.
