@@ -59,7 +59,7 @@ TEST_CASE("A frame shift carries a point fixed in the frame from its place at th
 TEST_CASE("A bed carried by a turning box keeps its list measured in the box's frame, and finds every contact",
           "[dem][neighbors][frame][motion][walls]") {
   // The box turns from the start; the bed settles in it within 0.25 s and then rides along (the 99th
-  // percentile of the spheres' speeds: ~0.001-0.008 m/s in the box, 0.087 m/s in the world). Measured
+  // percentile of the spheres' speeds: millimetres a second in the box, 0.08 m/s in the world). Measured
   // in the world, every sphere travels skin/2 within a few dozen steps; measured in the box's frame
   // only the bed's own creep counts. Either way the list must hold every pair that touches, and the
   // near-wall masks every sphere that touches a wall: at every step the contacts the force loop finds
@@ -110,8 +110,8 @@ TEST_CASE("A bed carried by a turning box keeps its list measured in the box's f
   CHECK(in_box.worst_miss == 0);
   CHECK(in_world.worst_miss == 0);
   CHECK(in_box.contacts > 700);  // a bed at rest in its box: every sphere touching several
-  // Measured in the box, the common skin is the floor (dem/adaptive_skin.hpp), a quarter of the world's,
-  // and the list holds fewer entries. (Builds are as frequent: the few spheres that still move in the
+  // Measured in the box, the common skin is near the floor (dem/adaptive_skin.hpp), an eighth of the
+  // world's (3.5e-5 against 2.8e-4 m), and the list holds 14 % fewer entries. (Builds are as frequent: the few spheres that still move in the
   // box get skins of their own that last ~40 steps, as every sphere's does in the world.)
   CHECK(in_box.skin < 0.5 * in_world.skin);
   CHECK(in_box.builds <= in_world.builds + in_world.builds / 10);

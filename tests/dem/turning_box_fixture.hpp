@@ -4,6 +4,7 @@
 #include <cmath>
 #include <memory>
 
+#include "barley_box_fixture.hpp"
 #include "dem/container_meshes.hpp"
 #include "dem/motion/delayed_motion.hpp"
 #include "dem/motion/steady_motion.hpp"
@@ -12,11 +13,11 @@
 
 namespace grainscale::dem::testing {
 
+/// The barley and perspex of barley_box_fixture.hpp, damped (restitution 0.2) and with more
+/// rolling friction, so that the bed comes to rest in its box within a quarter of a second.
 inline MaterialTable grain_and_box() {
-  MaterialTable mt;
-  mt.add({"grain", 1380, 2.6e7, 0.3});
-  mt.add({"perspex", 1190, 7.97e8, 0.38});
-  mt.set_pair(0, 0, {0.2, 0.5, 0.1, true});  // damped: the bed comes to rest in a tenth of a second
+  MaterialTable mt = barley_perspex();
+  mt.set_pair(0, 0, {0.2, 0.5, 0.1, true});
   mt.set_pair(0, 1, {0.2, 0.5, 0.1, true});
   return mt;
 }
