@@ -25,12 +25,12 @@ std::size_t touching_pairs(const Particles& p) {
     }
   return n;
 }
-std::size_t wall_contacts(const Simulation& sim) {
+std::size_t wall_contacts(const Simulation& sim, std::size_t wall = 0) {
   std::size_t n = 0;
   const Particles& p = sim.particles();
   for (std::size_t i = 0; i < p.size(); ++i) {
     WallContact wc[ForceField::kWallSlots + 1];
-    n += static_cast<std::size_t>(sim.walls()[0].contacts(p.x[i], p.radius[i], wc, ForceField::kWallSlots + 1));
+    n += static_cast<std::size_t>(sim.walls()[wall].contacts(p.x[i], p.radius[i], wc, ForceField::kWallSlots + 1));
   }
   return n;
 }
@@ -140,4 +140,30 @@ TEST_CASE("A bed in a box at rest is measured in the world: the same numbers as 
     same = same && x.x == y.x && x.y == y.y && x.z == y.z;
   }
   CHECK(same);
+}
+
+TEST_CASE("A wall fixed in the world, met by a bed its box lifts, is found at every step",
+          "[dem][neighbors][frame][motion][walls]") {
+  // The list measured in the box's frame, in which the bar moves towards the bed: the near-wall masks
+  // must follow it there (made again once some point of the spheres' region, in the box's frame,
+  // has moved half a skin in the bar's, ForceField::walls_where_found), so that at every step the
+  // wall contacts found are those a search over all spheres and walls finds.
+  Simulation sim = turning_box(SimulationSettings{}, 0.0, -0.6, true);  // rising at 0.3 m/s
+  sim.setup();
+  sim.run_steps(static_cast<std::uint64_t>(0.2 / sim.dt()));
+  std::size_t worst_miss = 0, most = 0, in_box = 0;
+  const int steps = static_cast<int>(0.05 / sim.dt());
+  for (int s = 0; s < steps; ++s) {
+    sim.step();
+    const std::size_t expected = wall_contacts(sim, 0) + wall_contacts(sim, 1);
+    const std::size_t found = sim.diagnostics().wall_contacts;
+    worst_miss = std::max(worst_miss, expected > found ? expected - found : found - expected);
+    most = std::max(most, wall_contacts(sim, 1));
+    in_box += sim.neighbors().frame().wall == 0;
+  }
+  INFO(steps << " steps, " << in_box << " of them with the list in the box's frame, up to " << most
+             << " contacts with the bar");
+  CHECK(worst_miss == 0);
+  CHECK(most > 3);  // the bed met the bar
+  CHECK(2 * in_box > static_cast<std::size_t>(steps));  // mostly in the box's frame
 }
