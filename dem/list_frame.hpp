@@ -11,9 +11,10 @@
 // world and hardly at all in the container's own frame, where G carries a point fixed to the
 // container from its place at the build to its place now:
 //   G = P(t) P(t_b)^-1,   P(t): the container wall's pose (its body frame -> world).
-// Measured in the world, the 800 mm platform box mid-rise (0.13 rad/s) rebuilt its list every 40
-// steps and held half again as many entries (its skin sized for the spheres' world speed), costing
-// 14-19 % more per step than at rest (docs/performance.md). The adaptive skin likewise sizes the
+// Measured in the world, the 800 mm platform box mid-rise (0.13 rad/s) held half again as many list
+// entries as at rest (its common skin sized for the spheres' world speed, six times the floor it
+// keeps in the box's frame), costing 14-19 % more per step; in the box's frame, 9-10 % faster
+// (in-process A/B, docs/performance.md). The adaptive skin likewise sizes the
 // list for each sphere's speed relative to the frame (Simulation::choose_skins), which is also
 // where the frame is chosen, at every build: the container's if the spheres' common speed is lower
 // there than in the world (a bed carried by its box), else the world's (a bed at rest, a pipe lifted
