@@ -19,10 +19,14 @@
 // Each sphere gets a skin of its own (the list's rule for that: dem/neighbor_list.hpp):
 //   - the common skin, skin(v_c), where v_c is the speed all but the fastest kFastShare of the
 //     spheres keep under, for every sphere up to v_c;
-//   - skin(v_i) for a sphere faster than v_c, and the same for every sphere in its own and the
-//     adjacent cells (the ones it may strike before the next build: a sphere struck from rest would
-//     otherwise outrun the common skin within a few steps; the bed below made 25 list builds in 600
-//     steps without this, 20 with it).
+//   - own(v_i) = clamp(2 kOwnSteps v_i dt, ...) for a sphere faster than v_c, and the same for every
+//     sphere in its own and the adjacent cells (the ones it may strike before the next build: a
+//     sphere struck from rest would otherwise outrun the common skin within a few steps; the bed
+//     below made 25 list builds in 600 steps without this, 20 with it). kOwnSteps = 2 kSteps: these
+//     few spheres decide how often the list is rebuilt (the rest last longer), and their entries are
+//     few, so they are sized to last twice as long (in-process A/B, docs/performance.md, fourteenth
+//     session: the platform box mid-rise +3.5 to +5 %, the 10^5 bed +0.3 to +4 %, the 10^3 bed
+//     +1.5 %; the clump bed has none, unchanged).
 // So a few fast spheres no longer thicken every sphere's list. A bed that has come to rest still
 // has some (the 10^5-sphere bed of bench/run_scaling.sh after 0.8 s: the median sphere at 0.08 mm/s,
 // a few rolling over the surface at 0.1-0.2 m/s); under one skin for all, the fastest set the skin
@@ -45,6 +49,8 @@ namespace grainscale::dem {
 struct AdaptiveSkin {
   /// Steps a list should last at a sphere's speed at its build.
   static constexpr double kSteps = 40;
+  /// The same for a sphere faster than the common speed, which gets a skin of its own.
+  static constexpr double kOwnSteps = 2 * kSteps;
   /// Smallest skin, as a fraction of skin_max: a bed at rest still needs a list that lasts.
   static constexpr double kMinFraction = 1.0 / 32;
 
@@ -58,6 +64,10 @@ struct AdaptiveSkin {
   /// dt (s) and the largest skin allowed (m).
   static double choose(double v, double dt, double skin_max) {
     return std::clamp(2.0 * kSteps * v * dt, kMinFraction * skin_max, skin_max);
+  }
+  /// The own skin of a sphere of speed v, faster than the common speed.
+  static double choose_own(double v, double dt, double skin_max) {
+    return std::clamp(2.0 * kOwnSteps * v * dt, kMinFraction * skin_max, skin_max);
   }
   /// Worth a build before the list is stale? (The common skins, of the build and chosen now.)
   static bool shrink(double skin_now, double skin_chosen) { return skin_chosen < 0.5 * skin_now; }

@@ -436,7 +436,7 @@ Simulation::SkinChoice Simulation::choose_skins() const {
   double largest = common;
 #pragma omp parallel for if(n >= parallel_min_items()) schedule(static) reduction(max : largest)
   for (std::size_t s = 0; s < n; ++s) {
-    own_skin_[s] = speed2_[s] > v2_common ? AdaptiveSkin::choose(std::sqrt(speed2_[s]), dt_, skin_max) : common;
+    own_skin_[s] = speed2_[s] > v2_common ? AdaptiveSkin::choose_own(std::sqrt(speed2_[s]), dt_, skin_max) : common;
     largest = std::max(largest, own_skin_[s]);
   }
   return {common, largest, frame_wall};

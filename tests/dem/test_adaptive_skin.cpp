@@ -66,6 +66,11 @@ TEST_CASE("The adaptive skin lasts kSteps steps at the fastest speed, between it
   // At rest the list still needs a skin; a stampede gets the fixed skin grainscale used before.
   CHECK(AdaptiveSkin::choose(0, dt, skin_max) == AdaptiveSkin::kMinFraction * skin_max);
   CHECK(AdaptiveSkin::choose(100, dt, skin_max) == skin_max);
+  // A sphere faster than the common speed gets a skin of its own that lasts kOwnSteps, twice as long.
+  const double u = 0.5 * v;  // (within the bounds for every v above)
+  CHECK(0.5 * AdaptiveSkin::choose_own(u, dt, skin_max) / (u * dt) == Approx(AdaptiveSkin::kOwnSteps));
+  CHECK(AdaptiveSkin::kOwnSteps == 2 * AdaptiveSkin::kSteps);
+  CHECK(AdaptiveSkin::choose_own(100, dt, skin_max) == skin_max);
   // Rebuilt early only for a skin under half the present one.
   CHECK(AdaptiveSkin::shrink(4e-4, 1.9e-4));
   CHECK(!AdaptiveSkin::shrink(4e-4, 2.1e-4));
