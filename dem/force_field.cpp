@@ -746,6 +746,7 @@ void ForceField::find_near_walls(const Particles& p, const std::vector<Wall>& wa
   const double travel = (at_build ? 1.0 : 1.5) * skin;
   const std::vector<double>& slack = nl.slack2();
   const ListFrame& frame = nl.frame();
+  const WallPose frame_pose = frame.in_wall() ? walls[frame.wall].pose() : WallPose{};
   const std::size_t n = p.size();
   const std::size_t masked = std::min(walls.size(), kMaskedWalls);
   near_walls_.resize(n);
@@ -761,7 +762,7 @@ void ForceField::find_near_walls(const Particles& p, const std::vector<Wall>& wa
     if (i < slack.size() && slack[i] > 0) {
       near = ~0u;
     } else {
-      const Vec3 y = frame.to_frame(p.x[i]);
+      const Vec3 y = frame.to_frame(frame_pose, p.x[i]);
       lox = std::min(lox, y.x), loy = std::min(loy, y.y), loz = std::min(loz, y.z);
       hix = std::max(hix, y.x), hiy = std::max(hiy, y.y), hiz = std::max(hiz, y.z);
     }
@@ -783,7 +784,7 @@ void ForceField::find_near_walls(const Particles& p, const std::vector<Wall>& wa
   if (at_build || wall_hints_.size() != n * hinted_walls_) wall_hints_.assign(n * hinted_walls_, WallGeometry::kNoHint);
   mask_poses_.clear();
   for (const Wall& w : walls) mask_poses_.push_back(w.pose());
-  mask_frame_ = frame;
+  mask_frame_wall_ = frame.wall;
 }
 
 bool ForceField::walls_where_found(const std::vector<Wall>& walls, const ListFrame& frame) const {
@@ -794,9 +795,12 @@ bool ForceField::walls_where_found(const std::vector<Wall>& walls, const ListFra
   // difference of two rigid maps is affine), so its largest value over the box is at a corner. (In
   // the world's frame G = G0 = 1; a wall fixed in the list's frame has P^-1 G = P0^-1 G0.) A wall
   // added, one that started or stopped moving, or a new frame needs new masks too.
-  if (mask_poses_.size() != walls.size() || near_walls_.empty() || mask_frame_.wall != frame.wall) return false;
+  if (mask_poses_.size() != walls.size() || near_walls_.empty() || mask_frame_wall_ != frame.wall) return false;
   const std::size_t masked = std::min(walls.size(), kMaskedWalls);
   if (mask_region_lo_.x > mask_region_hi_.x) return true;  // no sphere outside the strays
+  // The list frame's pose now and then: its wall's (unused in the world's frame).
+  const WallPose frame_now = frame.in_wall() ? walls[frame.wall].pose() : WallPose{};
+  const WallPose frame_then = frame.in_wall() ? mask_poses_[frame.wall] : WallPose{};
   for (std::size_t w = 0; w < masked; ++w) {
     if ((mask_margin_[w] > 0) != moves_in_frame(walls[w], frame)) return false;
     const WallPose& now = walls[w].pose();
@@ -806,7 +810,8 @@ bool ForceField::walls_where_found(const std::vector<Wall>& walls, const ListFra
       const Vec3 y{corner & 1 ? mask_region_hi_.x : mask_region_lo_.x,
                    corner & 2 ? mask_region_hi_.y : mask_region_lo_.y,
                    corner & 4 ? mask_region_hi_.z : mask_region_lo_.z};
-      shift2 = std::max(shift2, norm2(now.to_body(frame.to_world(y)) - then.to_body(mask_frame_.to_world(y))));
+      shift2 = std::max(shift2, norm2(now.to_body(frame.to_world(frame_now, y)) -
+                                      then.to_body(frame.to_world(frame_then, y))));
     }
     if (!(shift2 <= mask_margin_[w] * mask_margin_[w])) return false;
   }

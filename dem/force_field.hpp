@@ -295,7 +295,7 @@ class ForceField {
   std::vector<WallPose> mask_poses_;    // the walls' poses when the masks were made
   std::vector<double> mask_margin_;     // and their margins (0: static)
   Vec3 mask_region_lo_, mask_region_hi_;  // box around the spheres (strays aside) then, in the list's frame
-  ListFrame mask_frame_;                  // the list's frame then
+  int mask_frame_wall_ = -1;              // the list's frame then (its pose: mask_poses_[it])
   // Each sphere's hint for each wall whose geometry uses one (WallGeometry::Hint): wall_hints_[i *
   // hinted_walls_ + hint_index_[w]], hint_index_[w] -1 for a wall without. A hint is checked on use
   // (the mesh's names its cell), but belongs to its wall's geometry: walls are only appended, so

@@ -57,20 +57,20 @@ struct FrameShift {
 };
 
 /// The list's frame: the world's, or the body frame of one wall (the container), with the wall's
-/// pose at the list's build and at the spheres' present time.
+/// pose at the list's build. Its pose at any later time is the wall's own (`pose` below: the
+/// wall's pose then; unused in the world's frame).
 struct ListFrame {
   int wall = -1;      // -1: the world frame
   WallPose at_build;  // (a wall's frame only)
-  WallPose now;
 
   bool in_wall() const { return wall >= 0; }
   /// The map G = P P(build)^-1 a sphere's travel is measured against when the wall's pose is P (the
-  /// identity in the world); since_build() for P = its pose now.
+  /// identity in the world).
   FrameShift shift_to(const WallPose& pose) const { return in_wall() ? FrameShift::between(at_build, pose) : FrameShift{}; }
-  FrameShift since_build() const { return shift_to(now); }
-  /// A world point in the frame's coordinates now, and back (the identity in the world).
-  Vec3 to_frame(const Vec3& x) const { return in_wall() ? now.to_body(x) : x; }
-  Vec3 to_world(const Vec3& y) const { return in_wall() ? now.to_world(y) : y; }
+  /// A world point in the frame's coordinates when the wall's pose is `pose`, and back (the
+  /// identity in the world).
+  Vec3 to_frame(const WallPose& pose, const Vec3& x) const { return in_wall() ? pose.to_body(x) : x; }
+  Vec3 to_world(const WallPose& pose, const Vec3& y) const { return in_wall() ? pose.to_world(y) : y; }
 };
 
 }  // namespace grainscale::dem

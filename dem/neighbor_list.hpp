@@ -73,11 +73,10 @@ class NeighborList {
     return start_.size() != p.size() + 1 || max_displacement2 > 0.25 * skin_ * skin_;
   }
   /// The frame the caller measures the displacements in (dem/list_frame.hpp): a particle has moved
-  /// |x - frame().since_build()(x_at_build)|. Set by the caller at each build and kept current (its
-  /// pose now) as time moves on; the list itself builds from world positions.
+  /// |x - frame().shift_to(P)(x_at_build)|, P the frame wall's pose now. Set by the caller at each
+  /// build; the list itself builds from world positions.
   const ListFrame& frame() const { return frame_; }
   void set_frame(const ListFrame& f) { frame_ = f; }
-  void set_frame_now(const WallPose& now) { frame_.now = now; }
   /// Per slot of the last build: how much more than skin²/4 particle i's squared displacement may
   /// grow before the list is stale: s_i²/4 - skin²/4 (<= 0) for a particle of a thinner skin than the
   /// largest, more for a stray (its slack). Empty when every particle's is 0.

@@ -178,7 +178,6 @@ void Simulation::setup() {
   }
   forces_.setup(materials_, walls_, settings_.rolling);
   for (Wall& w : walls_) w.move_to(time_);
-  frame_follows_walls();
   move_spheres_with_bodies();
   rebuild(choose_skins());
   compute_forces(0);
@@ -327,7 +326,7 @@ void Simulation::restore(SimulationState&& s) {
     if (!is_finite(at_build.origin) || !(std::abs(q2 - 1) <= 1e-9)) {
       bad("the neighbour list's frame at its build must have a finite origin and a unit orientation");
     }
-    nl.set_frame({s.neighbor_frame_wall, at_build, at_build});
+    nl.set_frame({s.neighbor_frame_wall, at_build});
   }
   ForceField ff;
   ff.restore_wall_contacts(s.wall_count, s.wall_slots, walls_.size());
@@ -355,7 +354,6 @@ void Simulation::restore(SimulationState&& s) {
   renumber_bodies();
   index_spheres_by_body();
   for (Wall& w : walls_) w.move_to(time_);
-  frame_follows_walls();
   ready_ = true;
 }
 
@@ -369,11 +367,6 @@ int Simulation::container_wall() const {
 FrameShift Simulation::frame_shift_at(double t) const {
   const ListFrame& f = neighbors_.frame();
   return f.in_wall() ? f.shift_to(walls_[f.wall].pose_at(t)) : FrameShift{};
-}
-
-void Simulation::frame_follows_walls() {
-  const ListFrame& f = neighbors_.frame();
-  if (f.in_wall()) neighbors_.set_frame_now(walls_[f.wall].pose());
 }
 
 Simulation::SkinChoice Simulation::choose_skins() const {
@@ -483,9 +476,7 @@ void Simulation::rebuild(const SkinChoice& skins) {
     neighbors_.spread_to_adjacent_cells(particles_, skin_scratch_, skins.common, own_skin_);
     neighbors_.build(particles_, own_skin_, order);
   }
-  ListFrame frame;
-  if (skins.frame_wall >= 0) frame = {skins.frame_wall, walls_[skins.frame_wall].pose(), walls_[skins.frame_wall].pose()};
-  neighbors_.set_frame(frame);
+  neighbors_.set_frame(skins.frame_wall >= 0 ? ListFrame{skins.frame_wall, walls_[skins.frame_wall].pose()} : ListFrame{});
   index_spheres_by_body();
 }
 
@@ -533,7 +524,7 @@ inline Vec3 body_angular_velocity(const Quat& q, const Vec3& L, const Vec3& iner
 /// frame (`shift`: where the build's position is now if fixed in that frame), less the
 /// sphere's slack (a stray's, NeighborList::slack2: `slack` has `slack_n` entries, 0 beyond).
 /// kInFrame false: the world's frame (`shift` unused), the loop free of the frame's branch (the
-/// clump bed's step was 3-5 % slower with the branch inside it; callers pick with for_each_follow).
+/// clump bed's step was 3-5 % slower with the branch inside it; follow_bodies picks once per loop).
 template <bool kInFrame>
 inline double follow_body(Particles& p, const Bodies& b, std::size_t s, const double* slack, std::size_t slack_n,
                           const FrameShift& shift) {
@@ -987,7 +978,6 @@ bool Simulation::drifted(int team) {
   time_ += dt_;
   ++steps_;
   for (Wall& w : walls_) w.move_to(time_);
-  frame_follows_walls();
   if (neighbors_.stale(particles_, moved2_) || skin_check_due()) return false;
   if (!forces_.begins_in_team(particles_, neighbors_, walls_, team)) return false;
   forces_.begin(particles_, neighbors_, walls_, team);

@@ -170,8 +170,6 @@ class Simulation {
   int container_wall() const;
   /// The list's frame shift (dem/list_frame.hpp) for spheres at time t, its wall's pose then.
   FrameShift frame_shift_at(double t) const;
-  /// Keep the list frame's present pose that of its wall (after the walls have moved).
-  void frame_follows_walls();
   SkinChoice choose_skins() const;
   /// A neighbour-list build with `skins`, chosen by choose_skins() just before (own_skin_ is theirs).
   void rebuild(const SkinChoice& skins);

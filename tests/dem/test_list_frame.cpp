@@ -55,7 +55,7 @@ TEST_CASE("A frame shift carries a point fixed in the frame from its place at th
   const Vec3 a{0.1, 0.2, 0.3}, b{-0.4, 0.5, 0.05};
   CHECK(std::abs(norm(g(a) - g(b)) - norm(a - b)) < 1e-15);
   const Vec3 c{0.1 / 3, 1.0 / 7, -2.0 / 9};
-  const Vec3 same = ListFrame{}.since_build()(c);
+  const Vec3 same = ListFrame{}.shift_to(now)(c);
   CHECK((same.x == c.x && same.y == c.y && same.z == c.z));
 }
 
