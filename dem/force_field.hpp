@@ -188,6 +188,9 @@ class ForceField {
   /// the same ranges (Simulation::thread_bodies), so that a sphere's state stays on one core.
   void thread_spheres(std::size_t n, int team, int t, std::size_t& first, std::size_t& last) const;
 
+  /// How far, in skins (NeighborList::skin), a wall that moves in the list's frame may travel against
+  /// the spheres between one making of the near-wall masks and the next (find_near_walls).
+  static constexpr double kMovingWallMargin = 0.5;
   /// The near-wall masks the last compute() made, per particle slot, while they hold: made for this
   /// list (no build since) and these `n` particles, and `walls` not moved beyond their margins since;
   /// else nullptr. Lets other per-contact loops (the step-stability monitor) skip walls out of reach
@@ -290,7 +293,6 @@ class ForceField {
   // says how). The profile had a box wall's distance test at 4 % of a settled clump bed, and a moving
   // mesh box's at a third of the default study, for spheres nowhere near it.
   static constexpr std::size_t kMaskedWalls = 32;
-  static constexpr double kMovingWallMargin = 0.5;  // skins a moving wall may travel between masks
   std::vector<std::uint32_t> near_walls_;
   std::vector<WallPose> mask_poses_;    // the walls' poses when the masks were made
   std::vector<double> mask_margin_;     // and their margins (0: static)

@@ -197,3 +197,46 @@ TEST_CASE("A wall fixed in the world, met by a bed its box lifts, is found at ev
   CHECK(most > 3);  // the bed met the bar
   CHECK(2 * in_box > static_cast<std::size_t>(steps));  // mostly in the box's frame
 }
+
+TEST_CASE("The near-wall masks expire before a wall moving in the list's frame has gone half a skin towards any sphere",
+          "[dem][neighbors][frame][motion][walls]") {
+  // ForceField::walls_where_found judges how far the bar has moved against the bed by the corners of
+  // the box around the spheres, taken in the list's frame. Here the walls alone are moved on from a
+  // step's end (the spheres carried rigidly with the box, as a bed at rest in it would be), and
+  // while the masks still hold, no sphere they leave out of the bar's reach may have moved more
+  // than the margin, ForceField::kMovingWallMargin skins, against the bar. The box sits 0.5 m aside
+  // of the world's origin and turns about a pivot 0.45 m further: a region taken in the world's
+  // coordinates instead of the box's would sit by the pivot, where the turn hardly moves anything,
+  // and hold the masks five times too long.
+  const double start = GENERATE(0.1, 0.25);
+  Simulation sim = turning_box(SimulationSettings{}, 0.0, -0.6, true);  // rising at 0.3 m/s
+  sim.setup();
+  sim.run_steps(static_cast<std::uint64_t>(start / sim.dt()));
+  for (int s = 0; s < 1000 && sim.neighbors().frame().wall != 0; ++s) sim.step();
+  REQUIRE(sim.neighbors().frame().wall == 0);  // the list in the box's frame
+  const Particles& p = sim.particles();
+  const WallPose box_then = sim.walls()[0].pose();
+  const double margin = ForceField::kMovingWallMargin * sim.neighbors().skin();
+  REQUIRE(sim.force_field().near_wall_masks(sim.walls(), sim.neighbors(), p.size()) != nullptr);
+  std::vector<Wall> walls = sim.walls();
+  double worst = 0;  // the largest shift of a sphere left out of the bar's reach, in margins
+  bool expired = false;
+  for (int k = 1; k <= 400 && !expired; ++k) {
+    const double t = sim.time() + k * sim.dt() / 8;
+    for (Wall& w : walls) w.move_to(t);
+    const std::uint32_t* masks = sim.force_field().near_wall_masks(walls, sim.neighbors(), p.size());
+    if (masks == nullptr) {
+      expired = true;
+      break;
+    }
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      if (masks[i] >> 1 & 1u) continue;  // flagged near the bar
+      const Vec3 now = walls[0].pose().to_world(box_then.to_body(p.x[i]));  // the bar is fixed in the world
+      worst = std::max(worst, norm(now - p.x[i]) / margin);
+    }
+  }
+  INFO("skin " << sim.neighbors().skin() << " m; worst shift of a sphere out of the bar's reach " << worst << " margins");
+  CHECK(expired);
+  CHECK(worst <= 1.0);
+  CHECK(worst > 0.5);  // the masks held until the bar had moved most of the margin
+}
