@@ -15,6 +15,8 @@
 
 #include <cstddef>
 
+#include "dem/prefetch.hpp"
+
 namespace grainscale::dem {
 
 /// The lines of kArrays arrays over the same range of elements, requested one line of each per call.
@@ -32,7 +34,7 @@ class BoundaryLines {
   /// Request the next line of each array, for writing (none once all have been requested).
   void fetch_next_for_write() {
     if (next_ == lines_) return;
-    for (int a = 0; a < kArrays; ++a) __builtin_prefetch(begin_[a] + kLine * next_, 1);
+    for (int a = 0; a < kArrays; ++a) prefetch_for_write(begin_[a] + kLine * next_);
     ++next_;
   }
 

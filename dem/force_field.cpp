@@ -1,6 +1,7 @@
 #include "dem/parallel.hpp"
 #include "dem/force_field.hpp"
 #include "dem/pair_batch.hpp"
+#include "dem/prefetch.hpp"
 #include "dem/wall_batch.hpp"
 
 #include <omp.h>
@@ -43,18 +44,6 @@ constexpr std::size_t kPassBlock = 64;  // spheres per block (a thread takes a r
 // (perf, the 10^3 bed, 1 thread: ~4 ns a sphere, ~20 ns an entry, ~25 ns a sphere with a wall in
 // reach); the split's feedback corrects what this estimate misses.
 constexpr double kSphereCost = 1, kEntryCost = 5, kWallSphereCost = 6;
-
-/// A prefetch of every 64-byte line of [from, to); `for_write` when the lines will be written.
-template <class T>
-inline void prefetch_lines(const T* from, const T* to, bool for_write = false) {
-  const char* line = reinterpret_cast<const char*>(reinterpret_cast<std::uintptr_t>(from) & ~std::uintptr_t{63});
-  const char* const end = reinterpret_cast<const char*>(to);
-  if (for_write) {
-    for (; line < end; line += 64) __builtin_prefetch(line, 1);
-  } else {
-    for (; line < end; line += 64) __builtin_prefetch(line, 0);
-  }
-}
 
 /// How far (partner - owner, in slots) a pair may reach and keep its partner share in a ring of `size`
 /// entries (ForceField::share_ring_): the largest r such that the entries of any r + 1 consecutive
@@ -468,8 +457,8 @@ void ForceField::pass_with(const Models<Rolling>& m, int threads, int thread, Pa
     auto prefetch_ahead = [&](std::uint32_t k) {
       if (k + kPrefetchEntries >= entries) return;
       const std::uint32_t ahead = partner[k + kPrefetchEntries];
-      __builtin_prefetch(&x[ahead]), __builtin_prefetch(&radius[ahead]);
-      __builtin_prefetch(&v[ahead]), __builtin_prefetch(&omega[ahead]);
+      prefetch_for_read(&x[ahead]), prefetch_for_read(&radius[ahead]);
+      prefetch_for_read(&v[ahead]), prefetch_for_read(&omega[ahead]);
     };
     const WallGeometry::Hint* const hints = hinted_walls_ > 0 ? wall_hints_.data() : nullptr;
     // The lines block `ahead` will walk in order, in beds too large for the caches (kPrefetchBlocks).

@@ -2,6 +2,7 @@
 #include "dem/simulation.hpp"
 #include "dem/adaptive_skin.hpp"
 #include "dem/boundary_lines.hpp"
+#include "dem/prefetch.hpp"
 #include "dem/rotation_batch.hpp"
 
 #include <algorithm>
@@ -653,7 +654,7 @@ void Simulation::sum_bodies(const ForceTeam& team, double half_kick, const After
       for (int fetched = 0; fetched < 2 && ahead < ahead_end; ++ahead) {
         const std::size_t s = ahead;
         if (p.body[s] >= first && p.body[s] < last) {
-          __builtin_prefetch(&p.force[s]), __builtin_prefetch(&p.torque[s]), __builtin_prefetch(&p.x[s]);
+          prefetch_for_read(&p.force[s]), prefetch_for_read(&p.torque[s]), prefetch_for_read(&p.x[s]);
           ++fetched;
         }
       }

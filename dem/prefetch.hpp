@@ -1,0 +1,52 @@
+#pragma once
+// Cache lines requested ahead of the loop that will use them, by statements the compiler keeps.
+//
+// GCC takes __builtin_prefetch to have no side effects. A lambda that does nothing but prefetch is
+// then found pure, and its call, whose result nobody uses, dead code: GCC 12 (-O2 and above) dropped
+// every prefetch of the force loop's `prefetch_ahead` and `prefetch_block` lambdas that way, from
+// 2026-12-04 (d080acb, when the partner prefetch moved into a lambda) to 2026-12-06 (the block
+// prefetch was never in a binary; docs/performance.md, "fifteenth session"). A loop that also
+// loads or stores (the body sums' fetch ahead) kept its prefetches, which is why nothing showed.
+// An asm statement marked volatile is never removed; off x86-64 the builtin is what there is.
+//
+// Only a hint: a prefetch changes the time a loop takes, never its numbers. It does not fault, so
+// it may name any address (a line's start before an array's first element, one past its end).
+
+#include <cstdint>
+
+namespace grainscale::dem {
+
+/// Ask for the cache line holding `p`, to be read.
+inline void prefetch_for_read(const void* p) {
+#if defined(__x86_64__)
+  asm volatile("prefetcht0 %0" : : "m"(*static_cast<const char*>(p)));
+#else
+  __builtin_prefetch(p, 0);
+#endif
+}
+
+/// Ask for the cache line holding `p`, to be written: held exclusively, so that the store need not
+/// ask again (where the CPU has PREFETCHW; else as for reading, as GCC's builtin does).
+inline void prefetch_for_write(const void* p) {
+#if defined(__x86_64__) && defined(__PRFCHW__)
+  asm volatile("prefetchw %0" : : "m"(*static_cast<const char*>(p)));
+#elif defined(__x86_64__)
+  asm volatile("prefetcht0 %0" : : "m"(*static_cast<const char*>(p)));
+#else
+  __builtin_prefetch(p, 1);
+#endif
+}
+
+/// Every 64-byte line of [from, to), to be read or (`for_write`) written.
+template <class T>
+inline void prefetch_lines(const T* from, const T* to, bool for_write = false) {
+  const char* line = reinterpret_cast<const char*>(reinterpret_cast<std::uintptr_t>(from) & ~std::uintptr_t{63});
+  const char* const end = reinterpret_cast<const char*>(to);
+  if (for_write) {
+    for (; line < end; line += 64) prefetch_for_write(line);
+  } else {
+    for (; line < end; line += 64) prefetch_for_read(line);
+  }
+}
+
+}  // namespace grainscale::dem
