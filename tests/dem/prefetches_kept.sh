@@ -1,0 +1,16 @@
+#!/bin/sh
+# The force loop's prefetches are in the compiled library (dem/prefetch.hpp says how GCC dropped
+# them for two days: the source asked for them, the binary had 6 per force pass, all near walls).
+# Each instantiation of ForceField::pass_with must hold at least MIN prefetch instructions: the
+# partner's 4, the block's 20 arrays ahead, the wall slots'. Usage: prefetches_kept.sh OBJDUMP LIB MIN
+set -eu
+objdump=$1 lib=$2 min=$3
+"$objdump" -d --no-show-raw-insn "$lib" | awk -v min="$min" '
+  /^[0-9a-f]+ <.*>:$/ { fn = $2; if (fn ~ /^<_ZN10grainscale3dem10ForceField9pass_with/) { seen[fn] = 1; count[fn] += 0 } }
+  /\tprefetch/ { if (fn in seen) count[fn]++ }
+  END {
+    n = 0; bad = 0
+    for (f in count) { n++; printf "%d prefetch instructions in %s\n", count[f], f; if (count[f] < min) bad = 1 }
+    if (n == 0) { print "no ForceField::pass_with found"; exit 1 }
+    if (bad) { printf "fewer than %d in some force pass: prefetches dropped by the compiler?\n", min; exit 1 }
+  }'
