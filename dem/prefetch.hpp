@@ -7,7 +7,8 @@
 // 2026-12-04 (d080acb, when the partner prefetch moved into a lambda) to 2026-12-06 (the block
 // prefetch was never in a binary; docs/performance.md, "fifteenth session"). A loop that also
 // loads or stores (the body sums' fetch ahead) kept its prefetches, which is why nothing showed.
-// An asm statement marked volatile is never removed; off x86-64 the builtin is what there is.
+// An asm statement marked volatile is never removed; off x86-64 the builtin is what there is. The
+// address goes in a register, not as a memory operand: no object is named, so none need exist.
 //
 // Only a hint: a prefetch changes the time a loop takes, never its numbers. It does not fault, so
 // it may name any address (a line's start before an array's first element, one past its end).
@@ -19,7 +20,7 @@ namespace grainscale::dem {
 /// Ask for the cache line holding `p`, to be read.
 inline void prefetch_for_read(const void* p) {
 #if defined(__x86_64__)
-  asm volatile("prefetcht0 %0" : : "m"(*static_cast<const char*>(p)));
+  asm volatile("prefetcht0 (%0)" : : "r"(p));
 #else
   __builtin_prefetch(p, 0);
 #endif
@@ -29,9 +30,9 @@ inline void prefetch_for_read(const void* p) {
 /// ask again (where the CPU has PREFETCHW; else as for reading, as GCC's builtin does).
 inline void prefetch_for_write(const void* p) {
 #if defined(__x86_64__) && defined(__PRFCHW__)
-  asm volatile("prefetchw %0" : : "m"(*static_cast<const char*>(p)));
+  asm volatile("prefetchw (%0)" : : "r"(p));
 #elif defined(__x86_64__)
-  asm volatile("prefetcht0 %0" : : "m"(*static_cast<const char*>(p)));
+  asm volatile("prefetcht0 (%0)" : : "r"(p));
 #else
   __builtin_prefetch(p, 1);
 #endif
