@@ -21,20 +21,25 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 // The pair front fetches the partner of the entry kPrefetchEntries ahead (its position, radius and
 // velocities) in beds too large for the caches: there its neighbours in the next rows of cells
 // stream from memory and the hardware prefetchers, with a dozen arrays to follow at two or three
-// distances each, miss them (10^5 spheres: +5-15 %). In beds that fit the
-// caches the prefetches only cost (10^4 spheres -4 %, the clump bed -2 %), hence the threshold:
-// 10^4 spheres (16 MB) fit a 32 MiB L3, 10^5 (160 MB) do not (beyond_cache_spheres(), which
-// also picks the entry loop and the completion front: see there).
+// distances each, miss them. In beds that fit the caches the prefetches only cost (10^4 spheres
+// -4 %, the clump bed -2 %; measured 2026-12-04, when they were still compiled in: dem/prefetch.hpp),
+// hence the threshold: 10^4 spheres (16 MB) fit a 32 MiB L3, 10^5 (160 MB) do not
+// (beyond_cache_spheres(), which also picks the entry loop and the completion front: see there).
+// In-process A/B (2026-12-06, fifteenth session, 1 thread), the partner prefetch left out: the
+// platform box mid-rise -8 / -15 %, the 10^5 bed -1 to -4 %. 12 and 48 entries ahead: level.
 constexpr std::size_t kPrefetchEntries = 24;
-// ... and, at the start of each block, every line of the block kPrefetchBlocks ahead in the arrays it
-// walks in order (the spheres' state and sums, its entries and their histories, its reverse range).
-// A hardware prefetcher follows a stream only within a 4 KiB page and the pass walks some 25
-// streams, so each stream likely pays its first lines of every page at full latency (this project's
-// VMs have no counters to show it; a microbenchmark pays 3 ns a line over 8 streams, 6-9 over
-// 28-40: docs/performance.md, "ninth session"). In-process A/B on the settled 10^5
-// bed, 1 thread, 1,000 steps, both orders: +3.8 % (six runs, +1.6 to +5.4 %); 4 blocks ahead level,
-// 12 and 16 +2-3 %; the partner shares and near-wall masks as well, ~1.5 % worse than without.
-constexpr std::size_t kPrefetchBlocks = 8;
+// ... and, at the start of each block, every line of the block `prefetch_blocks` ahead in the
+// arrays it walks in order (the spheres' state and sums, its entries and their histories, its reverse
+// range). A hardware prefetcher follows a stream only within a 4 KiB page and the pass walks some 25
+// streams, so each stream would pay its first lines of every page at full latency (a microbenchmark
+// pays 3 ns a line over 8 streams, 6-9 over 28-40: docs/performance.md, "ninth session"). How far
+// ahead: about kPrefetchBytes of those lines, so that the lines requested are still in the caches
+// when the pass comes to them, and far enough for the partners of most pairs. In-process A/B
+// (fifteenth session, 1 thread, against 8 blocks ahead): the 10^5 bed (2 entries a sphere, 15 KB a
+// block) 6, 12 and 16 blocks -1.7, -1.8 and -2.8 %; the platform box (0.73 entries, 12 KB a block)
+// 12 and 16 blocks +8.8 and +7.6 % mid-rise, 12 +12 % at rest; without the block prefetch the 10^5
+// bed -3 %, the platform box -1 %.
+constexpr double kPrefetchBytes = 128 * 1024;
 
 // The chunked entry loop (beds beyond the caches) tests this many entries before gathering its contacts.
 constexpr std::uint32_t kEntryChunk = 128;
@@ -44,6 +49,18 @@ constexpr std::size_t kPassBlock = 64;  // spheres per block (a thread takes a r
 // (perf, the 10^3 bed, 1 thread: ~4 ns a sphere, ~20 ns an entry, ~25 ns a sphere with a wall in
 // reach); the split's feedback corrects what this estimate misses.
 constexpr double kSphereCost = 1, kEntryCost = 5, kWallSphereCost = 6;
+
+/// The blocks ahead of the pass whose lines prefetch_block requests: as many as kPrefetchBytes holds,
+/// for a list of `entries` entries over `n` spheres (bytes a sphere and an entry as prefetch_block
+/// has them): 8 on the 10^5 bed, 11 in the platform box.
+std::size_t prefetch_blocks(std::size_t n, std::size_t entries, bool rolling_springs) {
+  const double sphere = 3 * sizeof(Vec3) + 3 * sizeof(double) + sizeof(std::int32_t) + 2 * sizeof(Vec3) + 2 +
+                        sizeof(std::uint32_t);  // x v omega, radius mass inertia, material, force torque, counts, rev_start
+  const double entry = 2 * sizeof(std::uint32_t) + 1 + (rolling_springs ? 2 : 1) * sizeof(Vec3) +
+                       2 * sizeof(std::uint32_t);  // owner partner, flag, springs, reverse entry and owner
+  const double block = kPassBlock * (sphere + entry * static_cast<double>(entries) / static_cast<double>(std::max<std::size_t>(n, 1)));
+  return std::clamp(static_cast<std::size_t>(kPrefetchBytes / block), std::size_t{4}, std::size_t{32});
+}
 
 /// How far (partner - owner, in slots) a pair may reach and keep its partner share in a ring of `size`
 /// entries (ForceField::share_ring_): the largest r such that the entries of any r + 1 consecutive
@@ -432,6 +449,7 @@ void ForceField::pass_with(const Models<Rolling>& m, int threads, int thread, Pa
     const int materials = m.materials;
     const bool beyond_cache = n >= beyond_cache_spheres();
     const bool fused = beyond_cache;  // else the completion is a second loop over the blocks
+    const std::size_t blocks_ahead = beyond_cache ? prefetch_blocks(n, entries, Rolling::kSpring) : 0;
     // Entry k (owner i, partner j, d = x_i - x_j) touches: its pair goes into the batch's slot b.
     auto gather = [&](PairBatch<Rolling>& batch, int b, std::uint32_t k, std::uint32_t i, std::uint32_t j, Vec3 d,
                       double dist2, double rsum, double ri, Vec3 vi, Vec3 wi, double mass_i, double inertia_i, int row) {
@@ -461,7 +479,7 @@ void ForceField::pass_with(const Models<Rolling>& m, int threads, int thread, Pa
       prefetch_for_read(&v[ahead]), prefetch_for_read(&omega[ahead]);
     };
     const WallGeometry::Hint* const hints = hinted_walls_ > 0 ? wall_hints_.data() : nullptr;
-    // The lines block `ahead` will walk in order, in beds too large for the caches (kPrefetchBlocks).
+    // The lines block `ahead` will walk in order, in beds too large for the caches (prefetch_blocks).
     auto prefetch_block = [&](std::size_t ahead) {
       const std::size_t lo = ahead * kPassBlock, hi = std::min(n, lo + kPassBlock);
       prefetch_lines(x + lo, x + hi), prefetch_lines(v + lo, v + hi), prefetch_lines(omega + lo, omega + hi);
@@ -564,7 +582,7 @@ void ForceField::pass_with(const Models<Rolling>& m, int threads, int thread, Pa
     double busy = -omp_get_wtime();  // this thread's seconds in its blocks, for the next split
     for (std::size_t block = mine; block < mine_end; ++block) {
       const std::size_t lo = block * kPassBlock, hi = std::min(n, lo + kPassBlock);
-      if (beyond_cache && block + kPrefetchBlocks < mine_end) prefetch_block(block + kPrefetchBlocks);
+      if (beyond_cache && block + blocks_ahead < mine_end) prefetch_block(block + blocks_ahead);
       for (std::size_t i = lo; i < hi; ++i) force[i] = {}, torque[i] = {};
       int b = batch.size;  // in a register, stored back before a flush
       if (!beyond_cache) {
