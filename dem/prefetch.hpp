@@ -2,7 +2,7 @@
 // Cache lines requested ahead of the loop that will use them, by statements the compiler keeps.
 //
 // GCC takes __builtin_prefetch to have no side effects. A lambda that does nothing but prefetch is
-// then found pure, and its call, whose result nobody uses, dead code: GCC 12 (-O2 and above) dropped
+// then found pure, and its call, whose result nobody uses, dead code: GCC 12 (-O1 and above) dropped
 // every prefetch of the force loop's `prefetch_ahead` and `prefetch_block` lambdas that way, from
 // 2026-12-04 (d080acb, when the partner prefetch moved into a lambda) to 2026-12-06 (the block
 // prefetch was never in a binary; docs/performance.md, "fifteenth session"). A loop that also
