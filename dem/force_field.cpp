@@ -808,17 +808,20 @@ bool ForceField::walls_where_found(const std::vector<Wall>& walls, const ListFra
   // The list frame's pose now and then: its wall's (unused in the world's frame).
   const WallPose frame_now = frame.in_wall() ? walls[frame.wall].pose() : WallPose{};
   const WallPose frame_then = frame.in_wall() ? mask_poses_[frame.wall] : WallPose{};
+  // The region's corners in the world now and then, once for all walls.
+  Vec3 corner_now[8], corner_then[8];
+  for (int corner = 0; corner < 8; ++corner) {
+    const Vec3 y{corner & 1 ? mask_region_hi_.x : mask_region_lo_.x, corner & 2 ? mask_region_hi_.y : mask_region_lo_.y,
+                 corner & 4 ? mask_region_hi_.z : mask_region_lo_.z};
+    corner_now[corner] = frame.to_world(frame_now, y), corner_then[corner] = frame.to_world(frame_then, y);
+  }
   for (std::size_t w = 0; w < masked; ++w) {
     if ((mask_margin_[w] > 0) != moves_in_frame(walls[w], frame)) return false;
     const WallPose& now = walls[w].pose();
     const WallPose& then = mask_poses_[w];
     double shift2 = 0;
     for (int corner = 0; corner < 8; ++corner) {
-      const Vec3 y{corner & 1 ? mask_region_hi_.x : mask_region_lo_.x,
-                   corner & 2 ? mask_region_hi_.y : mask_region_lo_.y,
-                   corner & 4 ? mask_region_hi_.z : mask_region_lo_.z};
-      shift2 = std::max(shift2, norm2(now.to_body(frame.to_world(frame_now, y)) -
-                                      then.to_body(frame.to_world(frame_then, y))));
+      shift2 = std::max(shift2, norm2(now.to_body(corner_now[corner]) - then.to_body(corner_then[corner])));
     }
     if (!(shift2 <= mask_margin_[w] * mask_margin_[w])) return false;
   }

@@ -52,8 +52,11 @@ struct FrameShift {
     return {a[0][0] * x.x + a[0][1] * x.y + a[0][2] * x.z, a[1][0] * x.x + a[1][1] * x.y + a[1][2] * x.z,
             a[2][0] * x.x + a[2][1] * x.y + a[2][2] * x.z};
   }
-  /// Where the point at x at the build is now if it is fixed in the frame.
-  Vec3 operator()(const Vec3& x) const { return identity ? x : apply(x) + b; }
+  /// Where the point at x at the build is now if it is fixed in the frame, the map taken as it is
+  /// (for a caller that has tested `identity` once for many points).
+  Vec3 carry(const Vec3& x) const { return apply(x) + b; }
+  /// The same, the identity kept apart.
+  Vec3 operator()(const Vec3& x) const { return identity ? x : carry(x); }
 };
 
 /// The list's frame: the world's, or the body frame of one wall (the container), with the wall's

@@ -17,6 +17,12 @@ inline Quat operator*(const Quat& a, const Quat& b) {
           a.w * b.z + a.x * b.y - a.y * b.x + a.z * b.w};
 }
 
+/// Whether q is a unit quaternion (an orientation) to within 1e-9 in its squared norm; false for NaN.
+inline bool is_unit(const Quat& q) {
+  const double q2 = q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z;
+  return std::abs(q2 - 1) < 1e-9;
+}
+
 inline Quat normalized(const Quat& q) {
   const double n = std::sqrt(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z);
   return {q.w / n, q.x / n, q.y / n, q.z / n};

@@ -269,11 +269,9 @@ void Simulation::restore(SimulationState&& s) {
     }
   }
   for (std::size_t k = 0; k < nb; ++k) {
-    const Quat& q = b.q[k];
-    const double q2 = q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z;
     const Vec3 I = b.inertia[k];
     if (!is_finite(b.x[k]) || !is_finite(b.v[k]) || !is_finite(b.L[k]) || !is_finite(b.force[k]) ||
-        !is_finite(b.torque[k]) || !(std::abs(q2 - 1) < 1e-9) || !(b.mass[k] > 0) || !std::isfinite(b.mass[k]) ||
+        !is_finite(b.torque[k]) || !is_unit(b.q[k]) || !(b.mass[k] > 0) || !std::isfinite(b.mass[k]) ||
         b.inv_mass[k] != 1.0 / b.mass[k] || !(I.x > 0 && I.y > 0 && I.z > 0) || !is_finite(I)) {
       bad("body " + std::to_string(k) +
           " has a non-finite state, an orientation that is not a unit quaternion, or a mass or inertia that is not "
@@ -322,9 +320,7 @@ void Simulation::restore(SimulationState&& s) {
           ", but there are " + std::to_string(walls_.size()) + " walls");
     }
     const WallPose& at_build = s.neighbor_frame_at_build;
-    const Quat& q = at_build.orientation;
-    const double q2 = q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z;
-    if (!is_finite(at_build.origin) || !(std::abs(q2 - 1) <= 1e-9)) {
+    if (!is_finite(at_build.origin) || !is_unit(at_build.orientation)) {
       bad("the neighbour list's frame at its build must have a finite origin and a unit orientation");
     }
     nl.set_frame({s.neighbor_frame_wall, at_build});
@@ -535,7 +531,7 @@ inline double follow_body(Particles& p, const Bodies& b, std::size_t s, const do
   p.v[s] = b.v[k] + cross(b.omega[k], r);
   p.omega[s] = b.omega[k];
   const Vec3& at_build = p.x_at_build[s];
-  const double moved2 = norm2(p.x[s] - (kInFrame ? shift.apply(at_build) + shift.b : at_build));
+  const double moved2 = norm2(p.x[s] - (kInFrame ? shift.carry(at_build) : at_build));
   return s < slack_n ? moved2 - slack[s] : moved2;
 }
 /// The largest follow_body over spheres [first, last), the frame's branch taken once.
