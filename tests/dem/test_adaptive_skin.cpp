@@ -8,6 +8,7 @@
 
 #include <catch2/catch.hpp>
 
+#include "all_contacts_search.hpp"
 #include "barley_box_fixture.hpp"
 #include "checkpoint_fixture.hpp"
 #include "dem/adaptive_skin.hpp"
@@ -18,16 +19,7 @@ using namespace grainscale::dem;
 
 namespace {
 
-/// Pairs of spheres of different bodies that overlap now: what the force loop must find.
-std::size_t overlapping_pairs(const Particles& p) {
-  std::size_t n = 0;
-  for (std::size_t i = 0; i < p.size(); ++i)
-    for (std::size_t j = i + 1; j < p.size(); ++j) {
-      const double r = p.radius[i] + p.radius[j];
-      n += p.body[i] != p.body[j] && norm2(p.x[i] - p.x[j]) < r * r;
-    }
-  return n;
-}
+using grainscale::dem::testing::overlapping_pairs;
 
 /// A small barley box (4 x 4 x nz spheres) run under a fixed skin, and the same state restored
 /// (through a checkpoint file) into a box whose settings are `then`.

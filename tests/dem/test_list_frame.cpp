@@ -10,33 +10,16 @@
 
 #include "dem/list_frame.hpp"
 #include "dem/motion/sinusoidal_motion.hpp"
+#include "all_contacts_search.hpp"
 #include "turning_box_fixture.hpp"
 
 using namespace grainscale::dem;
 
 namespace {
 
+using testing::overlapping_pairs;
 using testing::turning_box;
-
-/// Pairs of spheres that overlap, and sphere-wall contacts, by a search over all of them.
-std::size_t touching_pairs(const Particles& p) {
-  std::size_t n = 0;
-  for (std::size_t i = 0; i < p.size(); ++i)
-    for (std::size_t j = i + 1; j < p.size(); ++j) {
-      const double reach = p.radius[i] + p.radius[j];
-      if (norm2(p.x[i] - p.x[j]) < reach * reach) ++n;
-    }
-  return n;
-}
-std::size_t wall_contacts(const Simulation& sim, std::size_t wall = 0) {
-  std::size_t n = 0;
-  const Particles& p = sim.particles();
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    WallContact wc[ForceField::kWallSlots + 1];
-    n += static_cast<std::size_t>(sim.walls()[wall].contacts(p.x[i], p.radius[i], wc, ForceField::kWallSlots + 1));
-  }
-  return n;
-}
+using testing::wall_contacts;
 
 }  // namespace
 
@@ -85,7 +68,7 @@ TEST_CASE("A bed carried by a turning box keeps its list measured in the box's f
     const int steps = static_cast<int>(riding / sim.dt());
     for (int s = 0; s < steps; ++s) {
       sim.step();
-      const std::size_t pairs = touching_pairs(sim.particles()), walls = wall_contacts(sim);
+      const std::size_t pairs = overlapping_pairs(sim.particles()), walls = wall_contacts(sim, 0);
       const ForceDiagnostics& d = sim.diagnostics();
       o.worst_miss = std::max({o.worst_miss, pairs > d.contacts ? pairs - d.contacts : d.contacts - pairs,
                                walls > d.wall_contacts ? walls - d.wall_contacts : d.wall_contacts - walls});
@@ -136,7 +119,7 @@ TEST_CASE("A bed swung hard, its list's frame switching between the world's and 
   while (sim.time() < 0.7) {
     sim.step();
     ++steps;
-    const std::size_t pairs = touching_pairs(sim.particles()), walls = wall_contacts(sim);
+    const std::size_t pairs = overlapping_pairs(sim.particles()), walls = wall_contacts(sim, 0);
     const ForceDiagnostics& d = sim.diagnostics();
     worst_miss = std::max({worst_miss, pairs > d.contacts ? pairs - d.contacts : d.contacts - pairs,
                            walls > d.wall_contacts ? walls - d.wall_contacts : d.wall_contacts - walls});
