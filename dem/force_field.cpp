@@ -18,15 +18,19 @@ namespace grainscale::dem {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-// The pair front fetches the partner of the entry kPrefetchEntries ahead (its position, radius and
-// velocities) in beds too large for the caches: there its neighbours in the next rows of cells
-// stream from memory and the hardware prefetchers, with a dozen arrays to follow at two or three
-// distances each, miss them. In beds that fit the caches the prefetches only cost (10^4 spheres
+// The pair front fetches the partner of the entry kPrefetchEntries ahead (its position, radius,
+// velocities, mass, moment of inertia and material: all that `gather` reads of it) in beds too
+// large for the caches: there its neighbours in the next rows of cells stream from memory and the
+// hardware prefetchers, with a dozen arrays to follow at two or three distances each, miss them. In beds that fit the caches the prefetches only cost (10^4 spheres
 // -4 %, the clump bed -2 %; measured 2026-12-04, when they were still compiled in: dem/prefetch.hpp),
 // hence the threshold: 10^4 spheres (16 MB) fit a 32 MiB L3, 10^5 (160 MB) do not
 // (beyond_cache_spheres(), which also picks the entry loop and the completion front: see there).
 // In-process A/B (2026-12-06, fifteenth session, 1 thread), the partner prefetch left out: the
 // platform box mid-rise -8 / -15 %, the 10^5 bed -1 to -4 %. 12 and 48 entries ahead: level.
+// Its mass, inertia and material too (sixteenth session; until then only the first four, and the
+// load of material[j] had 6 % of the pass's samples in the platform box): in-process A/B, the
+// platform box mid-rise +7.3, +5.3, +7.8, +3.8 % on 1 thread, +1.2 to +3.6 % on 2, at the tilt's
+// start +5.6, +3.9 %; the 10^5 bed +2.3, -0.6 % (its partners mostly lie within the block prefetch).
 constexpr std::size_t kPrefetchEntries = 24;
 // ... and, at the start of each block, every line of the block `prefetch_blocks` ahead in the
 // arrays it walks in order (the spheres' state and sums, its entries and their histories, its reverse
@@ -477,6 +481,7 @@ void ForceField::pass_with(const Models<Rolling>& m, int threads, int thread, Pa
       const std::uint32_t ahead = partner[k + kPrefetchEntries];
       prefetch_for_read(&x[ahead]), prefetch_for_read(&radius[ahead]);
       prefetch_for_read(&v[ahead]), prefetch_for_read(&omega[ahead]);
+      prefetch_for_read(&mass[ahead]), prefetch_for_read(&inertia[ahead]), prefetch_for_read(&material[ahead]);
     };
     const WallGeometry::Hint* const hints = hinted_walls_ > 0 ? wall_hints_.data() : nullptr;
     // The lines block `ahead` will walk in order, in beds too large for the caches (prefetch_blocks).

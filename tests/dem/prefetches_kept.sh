@@ -2,7 +2,7 @@
 # The force loop's prefetches are in the compiled library (dem/prefetch.hpp says how GCC dropped
 # them for two days: the source asked for them, the binary had 6 per force pass, all near walls).
 # Each instantiation of ForceField::pass_with must hold at least MIN prefetch instructions: the
-# partner's 4, the block's 20 arrays ahead, the wall slots'. Usage: prefetches_kept.sh OBJDUMP LIB MIN
+# partner's 7, the block's 20 arrays ahead, the wall slots'. Usage: prefetches_kept.sh OBJDUMP LIB MIN
 set -eu
 objdump=$1 lib=$2 min=$3
 "$objdump" -d --no-show-raw-insn "$lib" | awk -v min="$min" '
