@@ -21,10 +21,11 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 // The pair front fetches the partner of the entry kPrefetchEntries ahead (its position, radius,
 // velocities, mass, moment of inertia and material: all that `gather` reads of it) in beds too
 // large for the caches: there its neighbours in the next rows of cells stream from memory and the
-// hardware prefetchers, with a dozen arrays to follow at two or three distances each, miss them. In beds that fit the caches the prefetches only cost (10^4 spheres
-// -4 %, the clump bed -2 %; measured 2026-12-04, when they were still compiled in: dem/prefetch.hpp),
-// hence the threshold: 10^4 spheres (16 MB) fit a 32 MiB L3, 10^5 (160 MB) do not
-// (beyond_cache_spheres(), which also picks the entry loop and the completion front: see there).
+// hardware prefetchers, with a dozen arrays to follow at two or three distances each, miss them. In
+// beds that fit the caches the prefetches only cost (10^4 spheres -4 %, the clump bed -2 %; measured
+// 2026-12-04, when they were still compiled in: dem/prefetch.hpp), hence the threshold: 10^4
+// spheres (16 MB) fit a 32 MiB L3, 10^5 (160 MB) do not (beyond_cache_spheres(), which also picks
+// the entry loop and the completion front: see there).
 // In-process A/B (2026-12-06, fifteenth session, 1 thread), the partner prefetch left out: the
 // platform box mid-rise -8 / -15 %, the 10^5 bed -1 to -4 %. 12 and 48 entries ahead: level.
 // Its mass, inertia and material too (sixteenth session; until then only the first four, and the
@@ -475,8 +476,10 @@ void ForceField::pass_with(const Models<Rolling>& m, int threads, int thread, Pa
       }
       batch.owner[b] = i, batch.entry[b] = k;
     };
-    // The partner of the entry kPrefetchEntries ahead, in beds too large for the caches.
-    auto prefetch_ahead = [&](std::uint32_t k) {
+    // The partner of the entry kPrefetchEntries ahead, in beds too large for the caches. (Both
+    // prefetching lambdas always inlined, so that tests/dem/prefetches_kept.sh finds their
+    // prefetches in the pass itself.)
+    auto prefetch_ahead = [&](std::uint32_t k) __attribute__((always_inline)) {
       if (k + kPrefetchEntries >= entries) return;
       const std::uint32_t ahead = partner[k + kPrefetchEntries];
       prefetch_for_read(&x[ahead]), prefetch_for_read(&radius[ahead]);

@@ -2,7 +2,9 @@
 # The force loop's prefetches are in the compiled library (dem/prefetch.hpp says how GCC dropped
 # them for two days: the source asked for them, the binary had 6 per force pass, all near walls).
 # Each instantiation of ForceField::pass_with must hold at least MIN prefetch instructions: the
-# partner's 7, the block's 20 arrays ahead, the wall slots'. Usage: prefetches_kept.sh OBJDUMP LIB MIN
+# partner's 7, a loop for each of the block's 19 or 20 arrays ahead, the wall slots' and hints' 3
+# (GCC 12.2: 35, 36, 35; without the partner's 28, without the block's 16: MIN is 30).
+# Usage: prefetches_kept.sh OBJDUMP LIB MIN
 set -eu
 objdump=$1 lib=$2 min=$3
 "$objdump" -d --no-show-raw-insn "$lib" | awk -v min="$min" '
