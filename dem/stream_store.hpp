@@ -10,8 +10,7 @@
 // ordered weakly, so the writer must call stream_fence() before another thread may read what it
 // wrote.
 
-#include <cstdint>
-#include <cstring>
+#include <bit>
 
 #if defined(__x86_64__)
 #include <immintrin.h>
@@ -24,10 +23,10 @@ namespace grainscale::dem {
 /// *to = v, bypassing the caches where the CPU can (else an ordinary store).
 inline void stream_store(Vec3* to, const Vec3& v) {
 #if defined(__x86_64__)
-  long long bits[3];
-  std::memcpy(bits, &v, sizeof bits);
   long long* const out = reinterpret_cast<long long*>(to);
-  _mm_stream_si64(out, bits[0]), _mm_stream_si64(out + 1, bits[1]), _mm_stream_si64(out + 2, bits[2]);
+  _mm_stream_si64(out, std::bit_cast<long long>(v.x));
+  _mm_stream_si64(out + 1, std::bit_cast<long long>(v.y));
+  _mm_stream_si64(out + 2, std::bit_cast<long long>(v.z));
 #else
   *to = v;
 #endif
