@@ -324,8 +324,9 @@ void ForceField::flush_pairs(PairBatch<Rolling>& b, double dt, Particles& p, Nei
   // to 4 contacts) and was mispredicted, a third of this function's samples on the 10^5 bed (in
   // beds within the caches the predictor learns each step's pattern: the branch is cheaper there,
   // the clump bed 1.4 % slower without it). The last store is the complete sum, the same numbers.
-  // In-process A/B (seventeenth session): 10^5 bed +4.1 / +2.3 % on 1 thread; the 2x platform box
-  // (0.7 entries a sphere) level, +2.2 / -0.9 % mid-rise.
+  // Separate runs of one binary, the mask switched by the environment (seventeenth session, three
+  // pairs each): the 2x platform box mid-rise +3.6 % on 1 thread, +4.2 % on 2; the 10^5 bed +1.6 %
+  // and +0.5 %.
   auto contacts = [&]<bool kMasked>() {
     for (int c = 0; c < b.size; ++c) {
       const std::uint32_t i = b.owner[c];

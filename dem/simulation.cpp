@@ -546,10 +546,9 @@ inline double follow_body(Particles& p, const Bodies& b, std::size_t s, const do
   return s < slack_n ? moved2 - slack[s] : moved2;
 }
 /// The largest follow_body over spheres [first, last), the frame's branch taken once. kStream: the
-/// spheres' new x, v and omega stored past the caches (dem/stream_store.hpp), for a bed beyond them,
-/// where the force loop reads them from memory anyway: the loop writes 72 bytes a sphere and read as
-/// many again before (in-process A/B, seventeenth session: 10^5 spheres +4.7 % on 1 thread, the 2x
-/// platform box mid-rise +3.4 %; docs/performance.md).
+/// spheres' new x, v and omega stored past the caches (dem/stream_store.hpp), where the force loop
+/// reads them from memory anyway (Simulation::stream_past_caches): the loop writes 72 bytes a sphere
+/// and read as many again before.
 template <bool kStream>
 inline double follow_bodies_as(Particles& p, const Bodies& b, std::size_t first, std::size_t last, const double* slack,
                                std::size_t slack_n, const FrameShift& shift) {
@@ -603,10 +602,15 @@ std::size_t Simulation::first_crossing_body(int team, int t, std::size_t first, 
   return std::clamp(bodies_.first_at(sphere_last > body_slot_span_ ? sphere_last - body_slot_span_ : 0), first, last);
 }
 
-bool Simulation::stream_body_sums() const {
-  // Where the bodies' arrays are beyond the caches (10^5 loose spheres: +1 to +2 % in-process); the
-  // 2x platform box's 14,521 clumps are not, and their sums stay in the caches for the next drift.
-  return bodies_.size() >= beyond_cache_spheres();
+bool Simulation::stream_past_caches() const {
+  // Measured in separate runs of one binary, the stores past the caches switched by the environment
+  // (seventeenth session; an in-process A/B, two simulations sharing the caches, read the platform
+  // box wrong): the 10^5 bed of loose spheres +6.4 % on 1 thread, +5.7 % on 2 (three pairs); the 2x
+  // platform box's clumps (84,109 spheres, 14,521 bodies), the drift's sphere state so stored, 4.3 %
+  // slower on 1 thread and 4.0 % on 2: there the next force loop found much of it still in the
+  // caches. Hence loose spheres only, where every array is as long as the bed.
+  const std::size_t n = particles_.size();
+  return n >= beyond_cache_spheres() && bodies_.size() == n;
 }
 
 void Simulation::sum_body(std::size_t k, double half_kick, bool stream) {
@@ -654,7 +658,7 @@ void Simulation::sum_ready_bodies(int team, int thread, std::size_t from, std::s
     progress.first = progress.next = std::clamp(b.first_at(from), first, progress.stop);
     progress.started = true;
   }
-  const bool stream = stream_body_sums();
+  const bool stream = stream_past_caches();
   std::size_t k = progress.next;
   while (k < progress.stop && b.sphere_slot[b.sphere_start[k + 1] - 1] < to) sum_body(k++, half_kick, stream);
   progress.next = k;
@@ -689,7 +693,7 @@ void Simulation::sum_bodies(const ForceTeam& team, double half_kick, const After
   // spheres per body, they have arrived when their bodies come (docs/performance.md, "2026-12-05
   // (fifth session)").
   std::size_t ahead = sphere_last, ahead_end = sphere_last;
-  const bool stream = stream_body_sums();
+  const bool stream = stream_past_caches();
   auto sum = [&](std::size_t from, std::size_t to) {
     for (std::size_t k = from; k < to; ++k) {
       for (int fetched = 0; fetched < 2 && ahead < ahead_end; ++ahead) {
@@ -871,10 +875,10 @@ double Simulation::drift_part(int team, int thread, double dt, std::uint64_t epo
   // Bodies in chunks: the anisotropic ones' rotations are evaluated together, vectorised
   // (dem/rotation_batch.hpp; the same numbers as one body at a time).
   RotationBatch batch;
-  // Loose spheres in a bed beyond the caches: omega, the one body array the loop only writes, is
-  // stored past the caches (dem/stream_store.hpp; a body of one sphere is isotropic, so the batch's
-  // ordinary stores do not come between them in a line). In-process A/B, 10^5 spheres: +2 %.
-  const bool stream_omega = n >= beyond_cache_spheres() && b.size() == n;
+  // Loose spheres in a bed beyond the caches (stream_past_caches): omega, the one body array the
+  // loop only writes, is stored past the caches (dem/stream_store.hpp; a body of one sphere is
+  // isotropic, so the batch's ordinary stores do not come between them in a line).
+  const bool stream = stream_past_caches();
   auto rotate_alone = [&](std::size_t k) {  // bodies the batch's series cannot turn
     free_rotation_step(b.q[k], b.L[k], b.inertia[k], dt);
     b.omega[k] = body_angular_velocity(b.q[k], b.L[k], b.inertia[k]);
@@ -892,7 +896,7 @@ double Simulation::drift_part(int team, int thread, double dt, std::uint64_t epo
         if (inertia.x == inertia.y && inertia.y == inertia.z) {  // a sphere: one exact rotation
           const Vec3 w = (1.0 / inertia.x) * b.L[k];
           free_rotation_isotropic(b.q[k], w, dt);
-          if (stream_omega) stream_store(&b.omega[k], w);
+          if (stream) stream_store(&b.omega[k], w);
           else b.omega[k] = w;
         } else {
           batch.add(static_cast<std::uint32_t>(k), b.q[k], b.L[k], inertia);
@@ -909,7 +913,7 @@ double Simulation::drift_part(int team, int thread, double dt, std::uint64_t epo
         }
       }
     }
-    if (stream_omega) stream_fence();
+    if (stream) stream_fence();
   };
   if (by_range) {
     const std::size_t crossing = first_crossing_body(team, thread, body_first, body_last, sphere_last);
@@ -923,7 +927,6 @@ double Simulation::drift_part(int team, int thread, double dt, std::uint64_t epo
   }
   // (The list's frame where the spheres will be, at the step's end; the walls move there after the drift.)
   const FrameShift shift = frame_shift_at(time_ + dt);
-  const bool stream = n >= beyond_cache_spheres();
   return std::max(moved2, follow_bodies(p, b, sphere_first, sphere_last, slack, slack_n, shift, stream));
 }
 

@@ -206,11 +206,12 @@ class Simulation {
   void sum_ready_bodies(int team, int thread, std::size_t from, std::size_t to, double half_kick,
                         AfterForces::Progress& progress);
   /// Body k's sum of its spheres' forces and torques, plus gravity, and the half kick if half_kick > 0;
-  /// `stream` (stream_body_sums): the sums stored past the caches.
+  /// `stream` (stream_past_caches): the sums stored past the caches.
   void sum_body(std::size_t k, double half_kick, bool stream);
-  /// Whether the bodies' sums are stored past the caches (dem/stream_store.hpp): where the bodies'
-  /// arrays are beyond them, so that the next drift reads the sums from memory anyway.
-  bool stream_body_sums() const;
+  /// Whether the step stores what it only writes past the caches (dem/stream_store.hpp): the
+  /// drift's sphere state, the bodies' omega, the bodies' sums. In beds of loose spheres beyond the
+  /// caches, where the next reader finds them gone anyway.
+  bool stream_past_caches() const;
   /// The bodies' sums as the force loop's follow-up (ForceField::compute, ForceField::pass).
   struct BodySums final : AfterForces {
     Simulation& sim;
