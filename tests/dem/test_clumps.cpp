@@ -211,13 +211,7 @@ TEST_CASE("Clumps on a floor move the same, bit for bit, whichever sweep the for
     state.insert(state.end(), sim.bodies().L.begin(), sim.bodies().L.end());
     return state;
   };
-  const auto within = run(1, false);
-  for (int threads = 1; threads <= 3; ++threads) {
-    INFO(threads << " threads");
-    const auto beyond = run(threads, true);
-    REQUIRE(within.size() == beyond.size());
-    CHECK(std::memcmp(within.data(), beyond.data(), within.size() * sizeof(Vec3)) == 0);
-  }
+  testing::check_same_beyond_the_caches(run, 3);
 }
 
 TEST_CASE("Clumps added to a running bed move the same, bit for bit, on 1 to 4 threads", "[dem][clump][determinism]") {

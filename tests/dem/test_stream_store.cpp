@@ -54,11 +54,5 @@ TEST_CASE("Loose spheres move the same, bit for bit, with the step's stores past
     }
     return state;
   };
-  const auto within = run(1, false);
-  for (int threads = 1; threads <= 2; ++threads) {
-    INFO(threads << " threads");
-    const auto beyond = run(threads, true);
-    REQUIRE(beyond.size() == within.size());
-    CHECK(std::memcmp(beyond.data(), within.data(), within.size() * sizeof(Vec3)) == 0);
-  }
+  testing::check_same_beyond_the_caches(run, 2);
 }
