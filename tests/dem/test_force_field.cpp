@@ -13,6 +13,7 @@
 #include "dem/walls/plane.hpp"
 
 #include "list_fixture.hpp"
+#include "pass_one_loop.hpp"
 
 using namespace grainscale::dem;
 
@@ -166,6 +167,11 @@ TEST_CASE("A non-finite force or torque is reported at the first slot that has o
   const int where = GENERATE(0, 1, 2);  // the pair's first sphere, its second, a sphere on the floor
   const int component = GENERATE(0, 1, 2, 3, 4, 5);  // which of v, omega goes bad (and so f or t)
   const double bad = GENERATE(std::numeric_limits<double>::infinity(), std::numeric_limits<double>::quiet_NaN());
+  // Both loops: beds beyond the caches list the spheres near a wall first and check every sphere's
+  // sums in one branch-free loop; beds within them check each sphere as they come to it.
+  const bool chunked = GENERATE(false, true);
+  INFO("the loop of beds " << (chunked ? "beyond" : "within") << " the caches");
+  const grainscale::dem::testing::PassOneLoop loop(chunked);
   MaterialTable materials;
   const int m = materials.add({"grain", 1380, 2.6e6, 0.3});
   materials.set_pair(m, m, {0.5, 0.35, 0.08, true});
