@@ -312,7 +312,8 @@ class ForceField {
   /// (the frame's own wall then moves with it, but is not told apart: its shift is 0 to round-off).
   static bool moves_in_frame(const Wall& w, const ListFrame& frame) { return w.moving() || frame.in_wall(); }
   /// Some wall may touch sphere i before the masks are made again (of `walls` walls).
-  bool wall_in_reach(std::size_t i, std::size_t walls) const { return near_walls_[i] != 0 || walls > kMaskedWalls; }
+  /// (`|`, not `||`: both operands are cheap, and no branch is needed where a loop counts or lists.)
+  bool wall_in_reach(std::size_t i, std::size_t walls) const { return (near_walls_[i] != 0) | (walls > kMaskedWalls); }
   // Wall-contact histories, this step's and last step's (double buffer: no copy of a sphere's old
   // slots, which perf showed stalling on the stores it had just made), slot-major: dem/wall_slots.hpp.
   WallSlots wall_slots_;
