@@ -5,7 +5,9 @@
 
 namespace grainscale::dem {
 
-void Bodies::permute(const std::vector<std::uint32_t>& p) {
+void Bodies::permute(const std::vector<std::uint32_t>& new_to_old) { permute(Renumbering(new_to_old)); }
+
+void Bodies::permute(const Renumbering& p) {
   scratch_.apply(id, p);
   scratch_.apply(shape, p);
   for (auto* a : {&mass, &inv_mass}) scratch_.apply(*a, p);

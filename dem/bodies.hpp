@@ -52,6 +52,8 @@ struct Bodies {
   /// new index k holds what old index new_to_old[k] held. Allocation-free once the scratch buffers
   /// have reached the body count.
   void permute(const std::vector<std::uint32_t>& new_to_old);
+  /// The same, with the indices it moves listed (dem/permutation.hpp): allocation-free.
+  void permute(const Renumbering& r);
 
   /// Current index of the body with this id (linear search; for tests and diagnostics).
   std::size_t index_of(std::uint64_t body_id) const;

@@ -920,7 +920,7 @@ void ForceField::thread_spheres(std::size_t n, int team, int t, std::size_t& fir
 
 void ForceField::resize(std::size_t n) { wall_slots_.resize(n); }
 
-void ForceField::permute(const std::vector<std::uint32_t>& new_to_old) { wall_slots_.permute(new_to_old); }
+void ForceField::permute(const Renumbering& r) { wall_slots_.permute(r); }
 
 void ForceField::restore_wall_contacts(const std::vector<std::uint8_t>& counts, const std::vector<WallSlot>& used,
                                        std::size_t walls) {

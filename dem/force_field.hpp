@@ -158,7 +158,7 @@ class ForceField {
   /// since), the walls within their masks' margins, room for a team of `team`.
   bool begins_in_team(const Particles& p, const NeighborList& nl, const std::vector<Wall>& walls, int team) const;
   /// Renumber the per-particle wall histories with the particles.
-  void permute(const std::vector<std::uint32_t>& new_to_old);
+  void permute(const Renumbering& r);
   /// Room for the wall contacts of n particles (those of the first min(n, before) kept).
   void resize(std::size_t n);
   /// Wall-contact histories: kWallSlots per particle slot, of which the first wall_counts()[i] are

@@ -34,7 +34,9 @@ std::size_t Particles::add_component(std::uint64_t pid, std::uint32_t b, int mat
   return id.size() - 1;
 }
 
-void Particles::permute(const std::vector<std::uint32_t>& p) {
+void Particles::permute(const std::vector<std::uint32_t>& new_to_old) { permute(Renumbering(new_to_old)); }
+
+void Particles::permute(const Renumbering& p) {
   scratch_.apply(id, p);
   scratch_.apply(material, p);
   scratch_.apply(body, p);

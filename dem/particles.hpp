@@ -42,6 +42,8 @@ struct Particles {
   /// Reorder every array so that new slot i holds what old slot new_to_old[i] held.
   /// Allocation-free once the scratch buffers have reached the particle count.
   void permute(const std::vector<std::uint32_t>& new_to_old);
+  /// The same, with the slots it moves listed (dem/permutation.hpp): allocation-free.
+  void permute(const Renumbering& r);
 
   /// Slot of the particle with this id (linear search; for tests and diagnostics).
   std::size_t slot_of(std::uint64_t pid) const;

@@ -261,6 +261,7 @@ class Simulation {
   std::vector<ThreadValue> moved2_of_;  // each thread's largest displacement in the drift
   std::size_t body_slot_span_ = 0;        // the most slots between two spheres of one body (index_spheres_by_body)
   std::vector<std::uint32_t> body_order_, body_new_index_;  // scratch for renumber_bodies
+  Renumbering renumbering_, body_renumbering_;  // a build's, of the spheres and of the bodies (the slots they move)
   /// Mass properties of each distinct sphere set added so far (mass_properties_of).
   std::vector<std::pair<std::vector<SphereComponent>, MassProperties>> mass_cache_;
   bool ready_ = false;
