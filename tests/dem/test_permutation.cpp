@@ -47,7 +47,8 @@ std::vector<std::uint32_t> renumbering_of_kind(const std::string& kind, std::siz
 
 }  // namespace
 
-TEST_CASE("A renumbering lists exactly the slots it moves, while they are few", "[dem][permutation]") {
+TEST_CASE("A renumbering lists the slots it moves, and arrays renumbered by those alone end as the definition has them",
+          "[dem][permutation]") {
   const std::size_t n = 1000;
   const std::string kind = GENERATE(as<std::string>{}, "none", "one sphere moves a row on", "one sphere moves a row back",
                                     "a few spheres move", "two spheres swap", "a long run shifts", "a shuffle");
@@ -62,21 +63,13 @@ TEST_CASE("A renumbering lists exactly the slots it moves, while they are few", 
   REQUIRE(r.moved() == (few ? moved : std::vector<std::uint32_t>{}));
   if (kind == "one sphere moves a row on") REQUIRE(moved.size() == n / 20 + 1);
   if (kind == "a long run shifts" || kind == "a shuffle") REQUIRE_FALSE(r.sparse());
-}
 
-TEST_CASE("Arrays renumbered by the moved slots alone end as the definition has them", "[dem][permutation]") {
-  const std::size_t n = 1000;
-  const std::string kind = GENERATE(as<std::string>{}, "none", "one sphere moves a row on", "one sphere moves a row back",
-                                    "a few spheres move", "two spheres swap", "a long run shifts", "a shuffle");
-  CAPTURE(kind);
-  const std::vector<std::uint32_t> order = renumbering_of_kind(kind, n);
-  const Renumbering r(order);
-
+  // The arrays, whichever way they are renumbered.
   std::vector<Vec3> a(n);
   for (std::size_t i = 0; i < n; ++i) a[i] = {1.0 * i, -2.0 * i, 0.5 + i};
   std::vector<Vec3> expected(n);
   for (std::size_t i = 0; i < n; ++i) expected[i] = a[order[i]];
-  // A scratch buffer left by an earlier, larger renumbering is neither shrunk nor read.
+  // A scratch buffer of another size, as an earlier renumbering left it (its contents are not read).
   std::vector<Vec3> scratch(3, Vec3{-7, -7, -7});
   permute_array(a, scratch, r);
   for (std::size_t i = 0; i < n; ++i) {
