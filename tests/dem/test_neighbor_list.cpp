@@ -37,6 +37,7 @@ PairSet brute_force(const Particles& p, double skin) {
   PairSet s;
   for (std::size_t i = 0; i < p.size(); ++i)
     for (std::size_t j = i + 1; j < p.size(); ++j) {
+      if (p.body[i] == p.body[j]) continue;  // no pair inside a body
       const double cut = p.radius[i] + p.radius[j] + skin;
       if (norm2(p.x[i] - p.x[j]) < cut * cut) s.insert(std::minmax(p.id[i], p.id[j]));
     }
@@ -69,8 +70,13 @@ TEST_CASE("Neighbour list equals the brute-force pair list", "[dem][neighbor]") 
   const testing::ParallelEverything guard;  // every loop parallel, however small
   const int threads = GENERATE(1, 2, 4);
   omp_set_num_threads(threads);
+  // Loose spheres, or spheres in bodies of three (as clumps' spheres: no pair within a body).
+  const bool in_bodies = GENERATE(false, true);
+  CAPTURE(threads, in_bodies);
   const double skin = 0.001;
   Particles p = random_particles(2000, 0.15, 3);
+  if (in_bodies)
+    for (std::size_t i = 0; i < p.size(); ++i) p.body[i] = static_cast<std::uint32_t>(i / 3);
   NeighborList nl;
   testing::build_list(nl, p, skin);
   CHECK(listed(p, nl) == brute_force(p, skin));
