@@ -173,10 +173,10 @@ void NeighborList::build_rows(Particles& p, const std::vector<std::uint32_t>& ne
 
   // Sphere i's partners after it (j > i) into out[0, count): every candidate of the rows scanned is
   // stored, and the count advanced only for a pair within reach, so no branch follows the distance
-  // test, which no predictor learns (in the 2x platform box a third of build_rows' samples were the
-  // test's mispredicted branch and the push_back behind it). The arrays as plain pointers, and i's
-  // own values in locals: stored through a vector, each partner made GCC load them again. Returns
-  // the count; `out` must have room for bound(i) entries.
+  // test, whose outcome follows no pattern (in the 2x platform box a third of build_rows' samples sat
+  // on that branch and the push_back behind it). The arrays as plain pointers, and i's own values in
+  // locals: stored through a vector, each partner made GCC load them again. Returns the count; `out`
+  // must have room for the rows' bound (every candidate).
   const Vec3* const x = p.x.data();
   const double* const radius = p.radius.data();
   const std::uint32_t* const body = p.body.data();
