@@ -181,8 +181,9 @@ void NeighborList::build_rows(Particles& p, const std::vector<std::uint32_t>& ne
   const double* const radius = p.radius.data();
   const std::uint32_t* const body = p.body.data();
   const std::uint32_t* const cell_start = cell_start_.data();
+  constexpr int kMostRows = 5;  // two rows in i's own layer (its row and the next), three in the next layer
   struct Rows {  // the slot ranges [j0[r], j1[r]) of i's candidates, one per row of cells
-    std::uint32_t j0[6], j1[6];
+    std::uint32_t j0[kMostRows], j1[kMostRows];
     int rows = 0;
     std::uint32_t bound = 0;
   };
@@ -199,6 +200,7 @@ void NeighborList::build_rows(Particles& p, const std::vector<std::uint32_t>& ne
         const std::uint32_t j0 = std::max<std::uint32_t>(cell_start[row + std::max(i0 - 1, 0)], static_cast<std::uint32_t>(i + 1));
         const std::uint32_t j1 = cell_start[row + std::min(i0 + 1, n_[0] - 1) + 1];
         if (j1 <= j0) continue;
+        assert(r.rows < kMostRows);
         r.j0[r.rows] = j0, r.j1[r.rows] = j1, ++r.rows;
         r.bound += j1 - j0;
       }

@@ -56,7 +56,6 @@ class Renumbering {
   }
 
   const std::vector<std::uint32_t>& new_to_old() const { return *new_to_old_; }
-  std::size_t size() const { return new_to_old_->size(); }
   /// Whether moved() lists every slot that changes (else every slot is renumbered).
   bool sparse() const { return sparse_; }
   const std::vector<std::uint32_t>& moved() const { return moved_; }
