@@ -4,7 +4,6 @@
 #include "dem/boundary_lines.hpp"
 #include "dem/prefetch.hpp"
 #include "dem/rotation_batch.hpp"
-#include "dem/stream_store.hpp"
 
 #include <algorithm>
 #include <cassert>
@@ -525,52 +524,31 @@ inline Vec3 body_angular_velocity(const Quat& q, const Vec3& L, const Vec3& iner
 /// sphere's slack (a stray's, NeighborList::slack2: `slack` has `slack_n` entries, 0 beyond).
 /// kInFrame false: the world's frame (`shift` unused), the loop free of the frame's branch (the
 /// clump bed's step was 3-5 % slower with the branch inside it; follow_bodies picks once per loop).
-template <bool kInFrame, bool kStream>
+template <bool kInFrame>
 inline double follow_body(Particles& p, const Bodies& b, std::size_t s, const double* slack, std::size_t slack_n,
                           const FrameShift& shift) {
   const std::uint32_t k = p.body[s];
   const Vec3 r = rotate(b.q[k], p.offset[s]);
-  Vec3 x;
-  if constexpr (kStream) {
-    x = b.x[k] + r;
-    stream_store(&p.x[s], x), stream_store(&p.v[s], b.v[k] + cross(b.omega[k], r));
-    stream_store(&p.omega[s], b.omega[k]);
-  } else {
-    // (Stored, then read back: built in a local first, GCC kept it on the stack and copied it 16
-    // bytes at a time, loads that waited on the 8-byte stores: the 10^3 bed's step 6 % slower.)
-    p.x[s] = b.x[k] + r;
-    p.v[s] = b.v[k] + cross(b.omega[k], r);
-    p.omega[s] = b.omega[k];
-    x = p.x[s];
-  }
+  // (Stored, then read back: built in a local first, GCC kept it on the stack and copied it 16
+  // bytes at a time, loads that waited on the 8-byte stores: the 10^3 bed's step 6 % slower.)
+  p.x[s] = b.x[k] + r;
+  p.v[s] = b.v[k] + cross(b.omega[k], r);
+  p.omega[s] = b.omega[k];
+  const Vec3 x = p.x[s];
   const Vec3& at_build = p.x_at_build[s];
   const double moved2 = norm2(x - (kInFrame ? shift.carry(at_build) : at_build));
   return s < slack_n ? moved2 - slack[s] : moved2;
 }
-/// The largest follow_body over spheres [first, last), the frame's branch taken once. kStream: the
-/// spheres' new x, v and omega stored past the caches (dem/stream_store.hpp), where the force loop
-/// reads them from memory anyway (Simulation::stream_past_caches): the loop writes 72 bytes a sphere
-/// and read as many again before.
-template <bool kStream>
-inline double follow_bodies_as(Particles& p, const Bodies& b, std::size_t first, std::size_t last, const double* slack,
-                               std::size_t slack_n, const FrameShift& shift) {
+/// The largest follow_body over spheres [first, last), the frame's branch taken once.
+inline double follow_bodies(Particles& p, const Bodies& b, std::size_t first, std::size_t last, const double* slack,
+                            std::size_t slack_n, const FrameShift& shift) {
   double moved2 = 0;
   if (shift.identity) {
-    for (std::size_t s = first; s < last; ++s) {
-      moved2 = std::max(moved2, follow_body<false, kStream>(p, b, s, slack, slack_n, shift));
-    }
+    for (std::size_t s = first; s < last; ++s) moved2 = std::max(moved2, follow_body<false>(p, b, s, slack, slack_n, shift));
   } else {
-    for (std::size_t s = first; s < last; ++s) {
-      moved2 = std::max(moved2, follow_body<true, kStream>(p, b, s, slack, slack_n, shift));
-    }
+    for (std::size_t s = first; s < last; ++s) moved2 = std::max(moved2, follow_body<true>(p, b, s, slack, slack_n, shift));
   }
-  if constexpr (kStream) stream_fence();
   return moved2;
-}
-inline double follow_bodies(Particles& p, const Bodies& b, std::size_t first, std::size_t last, const double* slack,
-                            std::size_t slack_n, const FrameShift& shift, bool stream) {
-  return stream ? follow_bodies_as<true>(p, b, first, last, slack, slack_n, shift)
-                : follow_bodies_as<false>(p, b, first, last, slack, slack_n, shift);
 }
 }  // namespace
 
@@ -604,18 +582,7 @@ std::size_t Simulation::first_crossing_body(int team, int t, std::size_t first, 
   return std::clamp(bodies_.first_at(sphere_last > body_slot_span_ ? sphere_last - body_slot_span_ : 0), first, last);
 }
 
-bool Simulation::stream_past_caches() const {
-  // Measured in separate runs of one binary, the stores past the caches switched by the environment
-  // (seventeenth session; an in-process A/B, two simulations sharing the caches, read the platform
-  // box wrong): the 10^5 bed of loose spheres +6.4 % on 1 thread, +5.7 % on 2 (three pairs); the 2x
-  // platform box's clumps (84,109 spheres, 14,521 bodies), the drift's sphere state so stored, 4.3 %
-  // slower on 1 thread and 4.0 % on 2: there the next force loop found much of it still in the
-  // caches. Hence loose spheres only, where every array is as long as the bed.
-  const std::size_t n = particles_.size();
-  return n >= beyond_cache_spheres() && bodies_.size() == n;
-}
-
-void Simulation::sum_body(std::size_t k, double half_kick, bool stream) {
+void Simulation::sum_body(std::size_t k, double half_kick) {
   Bodies& b = bodies_;
   const Particles& p = particles_;
   Vec3 f{}, t{};
@@ -624,22 +591,11 @@ void Simulation::sum_body(std::size_t k, double half_kick, bool stream) {
     f += p.force[s];
     t += cross(p.x[s] - b.x[k], p.force[s]) + p.torque[s];
   }
-  // (Each path as it is: a local force stored both ways stayed on GCC's stack and was copied 16
-  // bytes at a time, loads that waited on the 8-byte stores: sum_body 20 % slower.)
-  if (stream) {
-    const Vec3 force = f + b.mass[k] * settings_.gravity;
-    stream_store(&b.force[k], force), stream_store(&b.torque[k], t);
-    if (half_kick > 0) {
-      b.v[k] += (half_kick * b.inv_mass[k]) * force;
-      b.L[k] += half_kick * t;
-    }
-  } else {
-    b.force[k] = f + b.mass[k] * settings_.gravity;
-    b.torque[k] = t;
-    if (half_kick > 0) {
-      b.v[k] += (half_kick * b.inv_mass[k]) * b.force[k];
-      b.L[k] += half_kick * b.torque[k];
-    }
+  b.force[k] = f + b.mass[k] * settings_.gravity;
+  b.torque[k] = t;
+  if (half_kick > 0) {
+    b.v[k] += (half_kick * b.inv_mass[k]) * b.force[k];
+    b.L[k] += half_kick * b.torque[k];
   }
 }
 
@@ -660,9 +616,8 @@ void Simulation::sum_ready_bodies(int team, int thread, std::size_t from, std::s
     progress.first = progress.next = std::clamp(b.first_at(from), first, progress.stop);
     progress.started = true;
   }
-  const bool stream = stream_past_caches();
   std::size_t k = progress.next;
-  while (k < progress.stop && b.sphere_slot[b.sphere_start[k + 1] - 1] < to) sum_body(k++, half_kick, stream);
+  while (k < progress.stop && b.sphere_slot[b.sphere_start[k + 1] - 1] < to) sum_body(k++, half_kick);
   progress.next = k;
 }
 
@@ -695,7 +650,6 @@ void Simulation::sum_bodies(const ForceTeam& team, double half_kick, const After
   // spheres per body, they have arrived when their bodies come (docs/performance.md, "2026-12-05
   // (fifth session)").
   std::size_t ahead = sphere_last, ahead_end = sphere_last;
-  const bool stream = stream_past_caches();
   auto sum = [&](std::size_t from, std::size_t to) {
     for (std::size_t k = from; k < to; ++k) {
       for (int fetched = 0; fetched < 2 && ahead < ahead_end; ++ahead) {
@@ -705,7 +659,7 @@ void Simulation::sum_bodies(const ForceTeam& team, double half_kick, const After
           ++fetched;
         }
       }
-      sum_body(k, half_kick, stream);
+      sum_body(k, half_kick);
     }
   };
   if (by_range && progress.started) {
@@ -720,7 +674,6 @@ void Simulation::sum_bodies(const ForceTeam& team, double half_kick, const After
     ahead_end = std::min(n, sphere_last + body_slot_span_);
     sum(crossing, last);
   }
-  stream_fence();  // (sum_body's stores past the caches, before the team meets)
 }
 
 void Simulation::compute_forces(double half_kick) {
@@ -755,8 +708,8 @@ void Simulation::move_spheres_with_bodies() {
   const FrameShift shift = frame_shift_at(time_);
 #pragma omp parallel for if(n >= parallel_min_items()) schedule(static) reduction(max : moved2)
   for (std::size_t s = 0; s < n; ++s) {
-    moved2 = std::max(moved2, shift.identity ? follow_body<false, false>(p, bodies_, s, slack, slack_n, shift)
-                                             : follow_body<true, false>(p, bodies_, s, slack, slack_n, shift));
+    moved2 = std::max(moved2, shift.identity ? follow_body<false>(p, bodies_, s, slack, slack_n, shift)
+                                             : follow_body<true>(p, bodies_, s, slack, slack_n, shift));
     p.q[s] = bodies_.q[p.body[s]];
   }
   moved2_ = moved2;
@@ -877,10 +830,6 @@ double Simulation::drift_part(int team, int thread, double dt, std::uint64_t epo
   // Bodies in chunks: the anisotropic ones' rotations are evaluated together, vectorised
   // (dem/rotation_batch.hpp; the same numbers as one body at a time).
   RotationBatch batch;
-  // Loose spheres in a bed beyond the caches (stream_past_caches): omega, the one body array the
-  // loop only writes, is stored past the caches (dem/stream_store.hpp; a body of one sphere is
-  // isotropic, so the batch's ordinary stores do not come between them in a line).
-  const bool stream = stream_past_caches();
   auto rotate_alone = [&](std::size_t k) {  // bodies the batch's series cannot turn
     free_rotation_step(b.q[k], b.L[k], b.inertia[k], dt);
     b.omega[k] = body_angular_velocity(b.q[k], b.L[k], b.inertia[k]);
@@ -898,8 +847,7 @@ double Simulation::drift_part(int team, int thread, double dt, std::uint64_t epo
         if (inertia.x == inertia.y && inertia.y == inertia.z) {  // a sphere: one exact rotation
           const Vec3 w = (1.0 / inertia.x) * b.L[k];
           free_rotation_isotropic(b.q[k], w, dt);
-          if (stream) stream_store(&b.omega[k], w);
-          else b.omega[k] = w;
+          b.omega[k] = w;
         } else {
           batch.add(static_cast<std::uint32_t>(k), b.q[k], b.L[k], inertia);
         }
@@ -915,7 +863,6 @@ double Simulation::drift_part(int team, int thread, double dt, std::uint64_t epo
         }
       }
     }
-    if (stream) stream_fence();
   };
   if (by_range) {
     const std::size_t crossing = first_crossing_body(team, thread, body_first, body_last, sphere_last);
@@ -929,7 +876,7 @@ double Simulation::drift_part(int team, int thread, double dt, std::uint64_t epo
   }
   // (The list's frame where the spheres will be, at the step's end; the walls move there after the drift.)
   const FrameShift shift = frame_shift_at(time_ + dt);
-  return std::max(moved2, follow_bodies(p, b, sphere_first, sphere_last, slack, slack_n, shift, stream));
+  return std::max(moved2, follow_bodies(p, b, sphere_first, sphere_last, slack, slack_n, shift));
 }
 
 void Simulation::update_sphere_state() const {

@@ -205,13 +205,8 @@ class Simulation {
   /// forces are final so far (AfterForces::ready), and that it has not summed yet.
   void sum_ready_bodies(int team, int thread, std::size_t from, std::size_t to, double half_kick,
                         AfterForces::Progress& progress);
-  /// Body k's sum of its spheres' forces and torques, plus gravity, and the half kick if half_kick > 0;
-  /// `stream` (stream_past_caches): the sums stored past the caches.
-  void sum_body(std::size_t k, double half_kick, bool stream);
-  /// Whether the step stores what it only writes past the caches (dem/stream_store.hpp): the
-  /// drift's sphere state, the bodies' omega, the bodies' sums. In beds of loose spheres beyond the
-  /// caches, where the next reader finds them gone anyway.
-  bool stream_past_caches() const;
+  /// Body k's sum of its spheres' forces and torques, plus gravity, and the half kick if half_kick > 0.
+  void sum_body(std::size_t k, double half_kick);
   /// The bodies' sums as the force loop's follow-up (ForceField::compute, ForceField::pass).
   struct BodySums final : AfterForces {
     Simulation& sim;
