@@ -529,12 +529,16 @@ inline double follow_body(Particles& p, const Bodies& b, std::size_t s, const do
                           const FrameShift& shift) {
   const std::uint32_t k = p.body[s];
   const Vec3 r = rotate(b.q[k], p.offset[s]);
-  // (Stored, then read back: built in a local first, GCC kept it on the stack and copied it 16
-  // bytes at a time, loads that waited on the 8-byte stores: the 10^3 bed's step 6 % slower.)
-  p.x[s] = b.x[k] + r;
+  // The position's components in scalars, each stored and then used from its register. A Vec3 local
+  // stored whole was kept on GCC's stack and copied 16 bytes at a time (the 10^3 bed's step 6 %
+  // slower); stored and read back, the 16-byte load of two 8-byte stores failed to forward, and
+  // waited for them to reach the cache: a third of this loop's samples (perf, nineteenth session).
+  const double x0 = b.x[k].x + r.x, x1 = b.x[k].y + r.y, x2 = b.x[k].z + r.z;
+  Vec3& xs = p.x[s];
+  xs.x = x0, xs.y = x1, xs.z = x2;
   p.v[s] = b.v[k] + cross(b.omega[k], r);
   p.omega[s] = b.omega[k];
-  const Vec3 x = p.x[s];
+  const Vec3 x{x0, x1, x2};
   const Vec3& at_build = p.x_at_build[s];
   const double moved2 = norm2(x - (kInFrame ? shift.carry(at_build) : at_build));
   return s < slack_n ? moved2 - slack[s] : moved2;
