@@ -112,6 +112,25 @@ inline void free_rotation_isotropic(Quat& q, const Vec3& omega, double h) {
   q = normalized(Quat{c, sw * omega.x, sw * omega.y, sw * omega.z} * q);
 }
 
+/// free_rotation_isotropic written without branches, so that a loop over bodies vectorises
+/// (IsotropicRotationBatch). Returns false if the half angle is beyond the sine series' range: q is
+/// then not what free_rotation_isotropic gives and must be recomputed with it. Where it returns
+/// true, q is bit for bit free_rotation_isotropic's (the same operations in the same order; no
+/// spin leaves q as it was, not normalised again).
+inline bool free_rotation_isotropic_series(Quat& q, const Vec3& omega, double h) {
+  const double w2 = norm2(omega);
+  const double x2 = 0.25 * h * h * w2;
+  const double sw = 0.5 * h * (1 - x2 * (1.0 / 6) * (1 - x2 * (1.0 / 20) * (1 - x2 * (1.0 / 42))));
+  const double c = 1 - x2 * 0.5 * (1 - x2 * (1.0 / 12) * (1 - x2 * (1.0 / 30) * (1 - x2 * (1.0 / 56))));
+  const Quat turned = normalized(Quat{c, sw * omega.x, sw * omega.y, sw * omega.z} * q);
+  const bool spin = x2 > 0;
+  q.w = spin ? turned.w : q.w;
+  q.x = spin ? turned.x : q.x;
+  q.y = spin ? turned.y : q.y;
+  q.z = spin ? turned.z : q.z;
+  return x2 < detail::kSeriesRange * detail::kSeriesRange;
+}
+
 /// Free rotation for time h (no torque): updates q; the world angular momentum L is unchanged.
 inline void free_rotation_step(Quat& q, const Vec3& L, const Vec3& inertia, double h) {
   if (inertia.x == inertia.y && inertia.y == inertia.z) {

@@ -834,6 +834,7 @@ double Simulation::drift_part(int team, int thread, double dt, std::uint64_t epo
   // Bodies in chunks: the anisotropic ones' rotations are evaluated together, vectorised
   // (dem/rotation_batch.hpp; the same numbers as one body at a time).
   RotationBatch batch;
+  IsotropicRotationBatch isotropic;
   auto rotate_alone = [&](std::size_t k) {  // bodies the batch's series cannot turn
     free_rotation_step(b.q[k], b.L[k], b.inertia[k], dt);
     b.omega[k] = body_angular_velocity(b.q[k], b.L[k], b.inertia[k]);
@@ -841,7 +842,7 @@ double Simulation::drift_part(int team, int thread, double dt, std::uint64_t epo
   auto turn = [&](std::size_t from, std::size_t to) {  // bodies [from, to)
     for (std::size_t first = from; first < to; first += RotationBatch::kCapacity) {
       const std::size_t last = std::min(to, first + RotationBatch::kCapacity);
-      batch.size = 0;
+      batch.size = 0, isotropic.size = 0;
       for (std::size_t k = first; k < last; ++k) {
         boundary.fetch_next_for_write();
         b.v[k] += (half * b.inv_mass[k]) * b.force[k];
@@ -849,12 +850,21 @@ double Simulation::drift_part(int team, int thread, double dt, std::uint64_t epo
         b.x[k] += dt * b.v[k];
         const Vec3& inertia = b.inertia[k];
         if (inertia.x == inertia.y && inertia.y == inertia.z) {  // a sphere: one exact rotation
-          const Vec3 w = (1.0 / inertia.x) * b.L[k];
-          free_rotation_isotropic(b.q[k], w, dt);
-          b.omega[k] = w;
+          isotropic.add(static_cast<std::uint32_t>(k), b.q[k], b.L[k], inertia.x);
         } else {
           batch.add(static_cast<std::uint32_t>(k), b.q[k], b.L[k], inertia);
         }
+      }
+      isotropic.rotate(dt);
+      for (int c = 0; c < isotropic.size; ++c) {
+        const std::uint32_t k = isotropic.body[c];
+        const Vec3 w{isotropic.wx[c], isotropic.wy[c], isotropic.wz[c]};
+        if (isotropic.in_range[c]) {
+          b.q[k] = {isotropic.qw[c], isotropic.qx[c], isotropic.qy[c], isotropic.qz[c]};
+        } else {  // turned too far in one step for the series: the exact turn, from the old q
+          free_rotation_isotropic(b.q[k], w, dt);
+        }
+        b.omega[k] = w;
       }
       batch.rotate(dt);
       for (int c = 0; c < batch.size; ++c) {
