@@ -163,6 +163,28 @@ namespace {
   free_rotation_isotropic(q, omega, h);
 }
 bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+/// Spheres' orientations, angular momenta and moments of inertia, drawn from `seed`: spin rates over
+/// three decades (~30 to ~3 x 10^4 rad/s, half angles per step of 1e-4 s from ~1e-3 to ~1, both sides
+/// of the series' range, 0.01), and every ninth sphere without spin, its orientation a little off
+/// unit length as after many steps (normalising it again would change its bits).
+struct Spheres {
+  std::vector<Quat> q;
+  std::vector<Vec3> L;
+  std::vector<double> moment;
+};
+Spheres random_spheres(unsigned seed, int count) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(-1, 1);
+  Spheres s;
+  for (int c = 0; c < count; ++c) {
+    const bool still = c % 9 == 0;
+    s.q.push_back(still ? Quat{0.5, 0.5, 0.5, 0.5000000001} : normalized(Quat{u(rng), u(rng), u(rng), u(rng)}));
+    s.moment.push_back(1e-9 * (2 + u(rng)));
+    s.L.push_back(still ? Vec3{} : 1e-9 * std::pow(10.0, 3 + 1.5 * u(rng)) * Vec3{u(rng), u(rng), u(rng)});
+  }
+  return s;
+}
 }  // namespace
 
 TEST_CASE("A vectorised batch of free rotations gives free_rotation_step's numbers bit for bit", "[rotation]") {
@@ -211,43 +233,29 @@ TEST_CASE("A vectorised batch of isotropic turns gives free_rotation_step's numb
   // batch must reproduce one body at a time exactly, leave a body without spin as it was (not
   // normalised again), and flag those that turn beyond the sine series' range in a step (drift then
   // takes free_rotation_isotropic for them).
-  std::mt19937_64 rng(GENERATE(1u, 2u, 3u));
-  std::uniform_real_distribution<double> u(-1, 1);
+  const int count = IsotropicRotationBatch::kCapacity - 3;  // not a whole number of vector lanes
+  const Spheres spheres = random_spheres(GENERATE(1u, 2u, 3u), count);
   const double h = 1e-4;
   IsotropicRotationBatch batch;
-  std::vector<Quat> q0;
-  std::vector<Vec3> L;
-  std::vector<double> inertia;
-  for (int c = 0; c < IsotropicRotationBatch::kCapacity - 3; ++c) {  // not a whole number of vector lanes
-    // Not normalised exactly, as after many steps: normalising it again would change its bits.
-    const Quat q = c % 9 == 0 ? Quat{0.5, 0.5, 0.5, 0.5000000001} : normalized(Quat{u(rng), u(rng), u(rng), u(rng)});
-    const double moment = 1e-9 * (2 + u(rng));
-    // Spin rates over three decades (~30 to ~3 x 10^4 rad/s): half angles per step from ~1e-3 to
-    // ~1, both sides of the series' range (0.01); every ninth body without spin.
-    const Vec3 l = c % 9 == 0 ? Vec3{} : 1e-9 * std::pow(10.0, 3 + 1.5 * u(rng)) * Vec3{u(rng), u(rng), u(rng)};
-    q0.push_back(q), L.push_back(l), inertia.push_back(moment);
-    batch.add(static_cast<std::uint32_t>(c), q, l, moment);
-  }
+  for (int c = 0; c < count; ++c) batch.add(static_cast<std::uint32_t>(c), spheres.q[c], spheres.L[c], spheres.moment[c]);
   batch.rotate(h);
   int in_range = 0, still = 0;
   for (int c = 0; c < batch.size; ++c) {
-    Quat q = q0[c];
+    Quat q = spheres.q[c];
     Vec3 w;
-    turn_one_sphere(q, w, L[c], inertia[c], h);
-    INFO("body " << c);
-    CHECK(same_bits(batch.wx[c], w.x));  // omega whether in range or not (drift stores it as it is)
-    CHECK(same_bits(batch.wy[c], w.y));
-    CHECK(same_bits(batch.wz[c], w.z));
-    if (!batch.in_range[c]) continue;  // drift recomputes these with free_rotation_isotropic
+    turn_one_sphere(q, w, spheres.L[c], spheres.moment[c], h);
+    INFO("sphere " << c);
+    // omega whether in range or not (drift stores it as it is); the orientation where in range
+    // (drift recomputes the others with free_rotation_isotropic).
+    CHECK((same_bits(batch.wx[c], w.x) && same_bits(batch.wy[c], w.y) && same_bits(batch.wz[c], w.z)));
+    if (!batch.in_range[c]) continue;
     ++in_range;
-    still += L[c] == Vec3{};
-    CHECK(same_bits(batch.qw[c], q.w));
-    CHECK(same_bits(batch.qx[c], q.x));
-    CHECK(same_bits(batch.qy[c], q.y));
-    CHECK(same_bits(batch.qz[c], q.z));
+    still += spheres.L[c] == Vec3{};
+    CHECK((same_bits(batch.qw[c], q.w) && same_bits(batch.qx[c], q.x) && same_bits(batch.qy[c], q.y) &&
+           same_bits(batch.qz[c], q.z)));
   }
   INFO(in_range << " of " << batch.size << " in the series' range, " << still << " without spin");
-  CHECK(still == (batch.size + 8) / 9);  // bodies without spin are in range, and kept as they were
+  CHECK(still == (batch.size + 8) / 9);  // spheres without spin are in range, and kept as they were
   CHECK(in_range > batch.size / 4);      // both kinds present, so both paths are checked
   CHECK(in_range < batch.size * 3 / 4);
 }
