@@ -89,34 +89,11 @@ inline double rotate_about_body_axis(int k, double t, Quat& q, Vec3& lb, const V
 
 }  // namespace detail
 
-/// Free rotation of an isotropic body (a sphere) for time h: omega = L / I is constant, so one exact
-/// turn by |omega| h about omega (the splitting below would give the same with five; profiling showed
-/// sincos at 24 % of a sphere run). Where the half angle x = |omega| h / 2 is within the series' range
-/// the turn's quaternion (cos x, sin x omega / |omega|) comes from series in x^2 (sin x / x and cos x,
-/// the terms of detail::sin_cos_series): no square root, division or libm call for the turn (the
-/// product is normalised as before). The body loop of a settled sphere bed spent 5-7 % of its step
-/// in libm's sincos (docs/performance.md).
-inline void free_rotation_isotropic(Quat& q, const Vec3& omega, double h) {
-  const double w2 = norm2(omega);
-  const double x2 = 0.25 * h * h * w2;
-  double c, sw;  // cos x and sin x / |omega|
-  if (x2 < detail::kSeriesRange * detail::kSeriesRange) {
-    if (!(x2 > 0)) return;  // no spin
-    sw = 0.5 * h * (1 - x2 * (1.0 / 6) * (1 - x2 * (1.0 / 20) * (1 - x2 * (1.0 / 42))));
-    c = 1 - x2 * 0.5 * (1 - x2 * (1.0 / 12) * (1 - x2 * (1.0 / 30) * (1 - x2 * (1.0 / 56))));
-  } else {
-    const double w = std::sqrt(w2), x = 0.5 * h * w;
-    sw = std::sin(x) / w;
-    c = std::cos(x);
-  }
-  q = normalized(Quat{c, sw * omega.x, sw * omega.y, sw * omega.z} * q);
-}
-
-/// free_rotation_isotropic written without branches, so that a loop over bodies vectorises
-/// (IsotropicRotationBatch). Returns false if the half angle is beyond the sine series' range: q is
-/// then not what free_rotation_isotropic gives and must be recomputed with it. Where it returns
-/// true, q is bit for bit free_rotation_isotropic's (the same operations in the same order; no
-/// spin leaves q as it was, not normalised again).
+/// free_rotation_isotropic's turn within the sine series' range, written without branches, so that a
+/// loop over bodies vectorises (IsotropicRotationBatch; free_rotation_isotropic calls it too).
+/// Returns false if the half angle is beyond the series' range: q is then not what
+/// free_rotation_isotropic gives and must be recomputed with it. Without spin q is left as it was
+/// (not normalised again).
 inline bool free_rotation_isotropic_series(Quat& q, const Vec3& omega, double h) {
   const double w2 = norm2(omega);
   const double x2 = 0.25 * h * h * w2;
@@ -129,6 +106,25 @@ inline bool free_rotation_isotropic_series(Quat& q, const Vec3& omega, double h)
   q.y = spin ? turned.y : q.y;
   q.z = spin ? turned.z : q.z;
   return x2 < detail::kSeriesRange * detail::kSeriesRange;
+}
+
+/// Free rotation of an isotropic body (a sphere) for time h: omega = L / I is constant, so one exact
+/// turn by |omega| h about omega (the splitting below would give the same with five; profiling showed
+/// sincos at 24 % of a sphere run). Where the half angle x = |omega| h / 2 is within the series' range
+/// the turn's quaternion (cos x, sin x omega / |omega|) comes from series in x^2 (sin x / x and cos x,
+/// the terms of detail::sin_cos_series): no square root, division or libm call for the turn (the
+/// product is normalised as before). The body loop of a settled sphere bed spent 5-7 % of its step
+/// in libm's sincos (docs/performance.md).
+inline void free_rotation_isotropic(Quat& q, const Vec3& omega, double h) {
+  Quat turned = q;
+  if (free_rotation_isotropic_series(turned, omega, h)) {  // (no spin: q as it was)
+    q = turned;
+    return;
+  }
+  // Beyond the series' range (or not finite): the half angle's sine and cosine from libm.
+  const double w = std::sqrt(norm2(omega)), x = 0.5 * h * w;
+  const double sw = std::sin(x) / w, c = std::cos(x);  // sin x / |omega| and cos x
+  q = normalized(Quat{c, sw * omega.x, sw * omega.y, sw * omega.z} * q);
 }
 
 /// Free rotation for time h (no torque): updates q; the world angular momentum L is unchanged.
