@@ -250,7 +250,12 @@ TEST_CASE("A vectorised batch of isotropic turns gives free_rotation_step's numb
     CHECK((same_bits(batch.wx[c], w.x) && same_bits(batch.wy[c], w.y) && same_bits(batch.wz[c], w.z)));
     if (!batch.in_range[c]) continue;
     ++in_range;
-    still += spheres.L[c] == Vec3{};
+    if (spheres.L[c] == Vec3{}) {  // without spin: the orientation as it was, bit for bit (not normalised again)
+      ++still;
+      const Quat& before = spheres.q[c];
+      CHECK((same_bits(batch.qw[c], before.w) && same_bits(batch.qx[c], before.x) &&
+             same_bits(batch.qy[c], before.y) && same_bits(batch.qz[c], before.z)));
+    }
     CHECK((same_bits(batch.qw[c], q.w) && same_bits(batch.qx[c], q.x) && same_bits(batch.qy[c], q.y) &&
            same_bits(batch.qz[c], q.z)));
   }
