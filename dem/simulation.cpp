@@ -15,6 +15,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 
 #include "dem/input_error.hpp"
 #include "dem/rigid_rotation.hpp"
@@ -28,6 +29,9 @@ Simulation::Simulation(MaterialTable materials, SimulationSettings settings)
 std::uint64_t Simulation::add_body(double mass, const Vec3& inertia, const Vec3& x, const Quat& q, const Vec3& v,
                                    const Vec3& omega, int shape) {
   if (body_omega_lags_) update_body_omega();  // (made later, the new body's omega would be made from its L)
+  // The bodies' own arrays hold their state again until the next indexing (index_spheres_by_body).
+  if (body_copy_lags_) update_body_copy();
+  spheres_hold_bodies_ = false;
   Bodies& b = bodies_;
   const std::uint64_t id = b.size();
   b.id.push_back(id);
@@ -336,6 +340,8 @@ void Simulation::restore(SimulationState&& s) {
   sphere_state_lags_ = false;
   bodies_ = std::move(b);
   body_omega_lags_ = false;
+  spheres_hold_bodies_ = false;  // the bodies' arrays hold their state (index_spheres_by_body decides anew)
+  body_copy_lags_ = false;
   shape_names_ = std::move(s.shape_names);
   time_ = s.time;
   dt_ = s.dt;
@@ -500,8 +506,34 @@ void Simulation::renumber_bodies() {
 }
 
 
+bool Simulation::loose_spheres_in_order() const {
+  const Particles& p = particles_;
+  const Bodies& b = bodies_;
+  const std::size_t n = p.size();
+  if (!settings_.loose_bodies_in_spheres || b.size() != n || !b.indexed(n)) return false;
+  for (std::size_t k = 0; k < n; ++k) {
+    const Vec3& o = p.offset[k];
+    if (b.shape[k] != -1 || p.body[k] != k || !(o.x == 0 && o.y == 0 && o.z == 0)) return false;
+  }
+  return true;
+}
+
 void Simulation::index_spheres_by_body() {
   index_spheres(particles_, bodies_, body_fill_);
+  // Where the bodies' state is kept (spheres_hold_bodies_). Taken over by the spheres: theirs made
+  // the bodies' (the follow leaves them so already, but for the sign of a zero); given back (bodies
+  // added since do that themselves, add_body): the bodies' made from the spheres'.
+  const bool loose = loose_spheres_in_order();
+  if (loose && !spheres_hold_bodies_) {
+    if (body_omega_lags_) update_body_omega();
+    Particles& p = particles_;
+    const Bodies& b = bodies_;
+    for (std::size_t k = 0; k < b.size(); ++k) p.x[k] = b.x[k], p.v[k] = b.v[k], p.omega[k] = b.omega[k];
+    body_copy_lags_ = false;
+  } else if (!loose && spheres_hold_bodies_ && body_copy_lags_) {
+    update_body_copy();
+  }
+  spheres_hold_bodies_ = loose;
   // Within a body the slots are ascending (index_spheres), so its first and last are its extent.
   const Bodies& b = bodies_;
   std::size_t span = 0;
@@ -518,6 +550,15 @@ inline Vec3 body_angular_velocity(const Quat& q, const Vec3& L, const Vec3& iner
   return angular_velocity(q, L, inertia);
 }
 
+/// Sphere s's squared displacement since the last neighbour build to `x`, in the list's frame
+/// (`shift`; kInFrame false: the world's), less its slack (follow_body).
+template <bool kInFrame>
+inline double moved_since_build(const Particles& p, std::size_t s, const Vec3& x, const double* slack, std::size_t slack_n,
+                                const FrameShift& shift) {
+  const Vec3& at_build = p.x_at_build[s];
+  const double moved2 = norm2(x - (kInFrame ? shift.carry(at_build) : at_build));
+  return s < slack_n ? moved2 - slack[s] : moved2;
+}
 /// Sphere s follows its body: x_s = x_b + R(q_b) offset_s, v_s = v_b + omega_b x (x_s - x_b),
 /// omega_s = omega_b. Returns the squared displacement since the last neighbour build in the list's
 /// frame (`shift`: where the build's position is now if fixed in that frame), less the
@@ -538,10 +579,30 @@ inline double follow_body(Particles& p, const Bodies& b, std::size_t s, const do
   xs.x = x0, xs.y = x1, xs.z = x2;
   p.v[s] = b.v[k] + cross(b.omega[k], r);
   p.omega[s] = b.omega[k];
-  const Vec3 x{x0, x1, x2};
-  const Vec3& at_build = p.x_at_build[s];
-  const double moved2 = norm2(x - (kInFrame ? shift.carry(at_build) : at_build));
-  return s < slack_n ? moved2 - slack[s] : moved2;
+  return moved_since_build<kInFrame>(p, s, Vec3{x0, x1, x2}, slack, slack_n, shift);
+}
+/// The largest moved_since_build over spheres [first, last) where they are, the frame's branch taken once.
+inline double moved_spheres(const Particles& p, std::size_t first, std::size_t last, const double* slack,
+                            std::size_t slack_n, const FrameShift& shift) {
+  double moved2 = 0;
+  if (shift.identity) {
+    for (std::size_t s = first; s < last; ++s) moved2 = std::max(moved2, moved_since_build<false>(p, s, p.x[s], slack, slack_n, shift));
+  } else {
+    for (std::size_t s = first; s < last; ++s) moved2 = std::max(moved2, moved_since_build<true>(p, s, p.x[s], slack, slack_n, shift));
+  }
+  return moved2;
+}
+/// A body of one sphere at its centre: its force and torque from the sphere's contact sums, as
+/// sum_body makes them, by the same operations (the same bits; the lever x_s - x_b is +0).
+inline Vec3 lone_sphere_force(const Vec3& contact_force, double mass, const Vec3& gravity) {
+  Vec3 f{};
+  f += contact_force;
+  return f + mass * gravity;
+}
+inline Vec3 lone_sphere_torque(const Vec3& contact_force, const Vec3& contact_torque) {
+  Vec3 t{};
+  t += cross(Vec3{}, contact_force) + contact_torque;
+  return t;
 }
 /// The largest follow_body over spheres [first, last), the frame's branch taken once.
 inline double follow_bodies(Particles& p, const Bodies& b, std::size_t first, std::size_t last, const double* slack,
@@ -588,6 +649,14 @@ std::size_t Simulation::first_crossing_body(int team, int t, std::size_t first, 
 
 void Simulation::sum_body(std::size_t k, double half_kick) {
   Bodies& b = bodies_;
+  if (spheres_hold_bodies_) {  // body k is sphere k: its sums are the sphere's, kept there (update_body_copy)
+    if (half_kick > 0) {
+      Particles& p = particles_;
+      p.v[k] += (half_kick * b.inv_mass[k]) * lone_sphere_force(p.force[k], b.mass[k], settings_.gravity);
+      b.L[k] += half_kick * lone_sphere_torque(p.force[k], p.torque[k]);
+    }
+    return;
+  }
   const Particles& p = particles_;
   Vec3 f{}, t{};
   for (std::uint32_t m = b.sphere_start[k]; m < b.sphere_start[k + 1]; ++m) {
@@ -690,8 +759,10 @@ void Simulation::compute_forces(double half_kick) {
   // and nothing in between reads it, so it is made only for a reader (update_body_omega). A clump's
   // omega, two rotations and three divisions, was a third of this loop on the clump bed.
   if (half_kick > 0) body_omega_lags_ = true;
+  body_copy_lags_ = spheres_hold_bodies_;
   // A blow-up is reported with the state it happened in: the sums above change only the bodies'
-  // forces, velocities and angular momenta, which the report does not read.
+  // forces, velocities and angular momenta (a bed of loose spheres: its spheres' velocities), which
+  // the report does not read.
   check_health();
 }
 
@@ -701,10 +772,36 @@ void Simulation::update_body_omega() const {
   const std::size_t nb = b.size();
 #pragma omp parallel for if(nb >= parallel_min_items()) schedule(static)
   for (std::size_t k = 0; k < nb; ++k) b.omega[k] = body_angular_velocity(b.q[k], b.L[k], b.inertia[k]);
+  // Where the spheres hold their bodies' omega, it is theirs too (update_body_copy copies it back).
+  if (spheres_hold_bodies_) {
+    Particles& p = const_cast<Particles&>(particles_);
+    std::copy(b.omega.begin(), b.omega.end(), p.omega.begin());
+  }
   body_omega_lags_ = false;
 }
 
+void Simulation::update_body_copy() const {
+  // Every body a loose sphere (spheres_hold_bodies_, or until add_body or index_spheres_by_body
+  // gives their state back): k = p.body[s].
+  Bodies& b = const_cast<Bodies&>(bodies_);
+  const Particles& p = particles_;
+  const std::size_t n = p.size();
+  const bool omega = !body_omega_lags_;
+  const Vec3 g = settings_.gravity;
+#pragma omp parallel for if(n >= parallel_min_items()) schedule(static)
+  for (std::size_t s = 0; s < n; ++s) {
+    const std::uint32_t k = p.body[s];
+    b.x[k] = p.x[s];
+    b.v[k] = p.v[s];
+    if (omega) b.omega[k] = p.omega[s];
+    b.force[k] = lone_sphere_force(p.force[s], b.mass[k], g);
+    b.torque[k] = lone_sphere_torque(p.force[s], p.torque[s]);
+  }
+  body_copy_lags_ = false;
+}
+
 void Simulation::move_spheres_with_bodies() {
+  if (body_copy_lags_) update_body_copy();
   if (body_omega_lags_) update_body_omega();
   Particles& p = particles_;
   const std::size_t n = p.size();
@@ -833,23 +930,39 @@ double Simulation::drift_part(int team, int thread, double dt, std::uint64_t epo
     boundary = BoundaryLines<3>({&p.x[sphere_first], &p.v[sphere_first], &p.omega[sphere_first]},
                                 (end - sphere_first) * sizeof(Vec3));
   }
+  // (The list's frame where the spheres will be, at the step's end; the walls move there after the drift.)
+  const FrameShift shift = frame_shift_at(time_ + dt);
   // Bodies in chunks: the anisotropic ones' rotations are evaluated together, vectorised, and the
   // isotropic ones' (spheres) likewise (dem/rotation_batch.hpp; the same numbers as one body at a time).
+  // Where the spheres hold their bodies' state (spheres_hold_bodies_: body k is sphere k), the
+  // bodies' x, v, omega are the spheres' and their force and torque are made from the spheres' sums
+  // (as sum_body made them), so the spheres need not follow: only their displacements are taken,
+  // chunk by chunk, while the chunk is in the caches.
   RotationBatch batch;
   IsotropicRotationBatch isotropic;
-  auto rotate_alone = [&](std::size_t k) {  // bodies the batch's series cannot turn
-    free_rotation_step(b.q[k], b.L[k], b.inertia[k], dt);
-    b.omega[k] = body_angular_velocity(b.q[k], b.L[k], b.inertia[k]);
-  };
-  auto turn = [&](std::size_t from, std::size_t to) {  // bodies [from, to)
+  const Vec3 gravity = settings_.gravity;
+  auto turn_as = [&](auto in_spheres, std::size_t from, std::size_t to) {  // bodies [from, to)
+    constexpr bool kInSpheres = decltype(in_spheres)::value;
+    Vec3* const x = kInSpheres ? p.x.data() : b.x.data();
+    Vec3* const v = kInSpheres ? p.v.data() : b.v.data();
+    Vec3* const omega = kInSpheres ? p.omega.data() : b.omega.data();
+    auto rotate_alone = [&](std::size_t k) {  // bodies the batch's series cannot turn
+      free_rotation_step(b.q[k], b.L[k], b.inertia[k], dt);
+      omega[k] = body_angular_velocity(b.q[k], b.L[k], b.inertia[k]);
+    };
     for (std::size_t first = from; first < to; first += RotationBatch::kCapacity) {
       const std::size_t last = std::min(to, first + RotationBatch::kCapacity);
       batch.size = 0, isotropic.size = 0;
       for (std::size_t k = first; k < last; ++k) {
         boundary.fetch_next_for_write();
-        b.v[k] += (half * b.inv_mass[k]) * b.force[k];
-        b.L[k] += half * b.torque[k];
-        b.x[k] += dt * b.v[k];
+        if constexpr (kInSpheres) {
+          v[k] += (half * b.inv_mass[k]) * lone_sphere_force(p.force[k], b.mass[k], gravity);
+          b.L[k] += half * lone_sphere_torque(p.force[k], p.torque[k]);
+        } else {
+          v[k] += (half * b.inv_mass[k]) * b.force[k];
+          b.L[k] += half * b.torque[k];
+        }
+        x[k] += dt * v[k];
         const Vec3& inertia = b.inertia[k];
         if (inertia.x == inertia.y && inertia.y == inertia.z) {  // a sphere: one exact rotation
           isotropic.add(static_cast<std::uint32_t>(k), b.q[k], b.L[k], inertia.x);
@@ -866,18 +979,27 @@ double Simulation::drift_part(int team, int thread, double dt, std::uint64_t epo
         } else {  // turned too far in one step for the series: the exact turn, from the old q
           free_rotation_isotropic(b.q[k], w, dt);
         }
-        b.omega[k] = w;
+        omega[k] = w;
       }
       batch.rotate(dt);
       for (int c = 0; c < batch.size; ++c) {
         const std::uint32_t k = batch.body[c];
         if (batch.in_range[c]) {
           b.q[k] = {batch.qw[c], batch.qx[c], batch.qy[c], batch.qz[c]};
-          b.omega[k] = {batch.wx[c], batch.wy[c], batch.wz[c]};
+          omega[k] = {batch.wx[c], batch.wy[c], batch.wz[c]};
         } else {  // turned too far in one step for the series: the general path, from the old q
           rotate_alone(k);
         }
       }
+      if constexpr (kInSpheres) moved2 = std::max(moved2, moved_spheres(p, first, last, slack, slack_n, shift));
+    }
+  };
+  const bool in_spheres = spheres_hold_bodies_;
+  auto turn = [&](std::size_t from, std::size_t to) {
+    if (in_spheres) {
+      turn_as(std::true_type{}, from, to);
+    } else {
+      turn_as(std::false_type{}, from, to);
     }
   };
   if (by_range) {
@@ -890,8 +1012,7 @@ double Simulation::drift_part(int team, int thread, double dt, std::uint64_t epo
     turn(body_first, body_last);
 #pragma omp barrier
   }
-  // (The list's frame where the spheres will be, at the step's end; the walls move there after the drift.)
-  const FrameShift shift = frame_shift_at(time_ + dt);
+  if (in_spheres) return moved2;
   return std::max(moved2, follow_bodies(p, b, sphere_first, sphere_last, slack, slack_n, shift));
 }
 
@@ -899,15 +1020,17 @@ void Simulation::update_sphere_state() const {
   // The spheres' orientations, and their velocities at the full step, are for output and
   // diagnostics only (the force loop needs neither; the next drift sets the velocities afresh), so
   // they are brought up to date on demand: a cache of the bodies' state, hence const.
+  if (body_copy_lags_) update_body_copy();
   if (body_omega_lags_) update_body_omega();
   Particles& p = const_cast<Particles&>(particles_);
   const Bodies& b = bodies_;
   const std::size_t n = p.size();
+  const bool own_v = !spheres_hold_bodies_;  // (else the spheres' velocities are their bodies')
 #pragma omp parallel for if(n >= parallel_min_items()) schedule(static)
   for (std::size_t s = 0; s < n; ++s) {
     const std::uint32_t k = p.body[s];
     p.q[s] = b.q[k];
-    p.v[s] = b.v[k] + cross(b.omega[k], rotate(b.q[k], p.offset[s]));
+    if (own_v) p.v[s] = b.v[k] + cross(b.omega[k], rotate(b.q[k], p.offset[s]));
     p.omega[s] = b.omega[k];
   }
   sphere_state_lags_ = false;
@@ -969,6 +1092,7 @@ std::uint64_t Simulation::steps_in_region(std::uint64_t most) {
       step_signals_.meet(team, thread, e + 3, e + 4, [&] {
         diag_ = forces_.finish(dt_);
         body_omega_lags_ = true;  // the sums' half kick leaves omega to the next drift (compute_forces)
+        body_copy_lags_ = spheres_hold_bodies_;
         ++done;
         if (!healthy() || stability_due() || done == most) left = Left::after_forces;
       });
@@ -992,6 +1116,7 @@ bool Simulation::drifted(int team) {
   for (int t = 0; t < team; ++t) moved2 = std::max(moved2, moved2_of_[t].value);
   moved2_ = moved2;
   body_omega_lags_ = false;   // every body's omega made afresh by the drift
+  body_copy_lags_ = spheres_hold_bodies_;
   sphere_state_lags_ = true;  // orientations (output only) are not copied there; velocities go stale at the kick
   time_ += dt_;
   ++steps_;
@@ -1014,6 +1139,7 @@ void Simulation::finish_step() {
 }
 
 const StepStability& Simulation::check_stability() {
+  if (body_copy_lags_) update_body_copy();
   stability_ = stability_monitor_.assess(particles_, bodies_, neighbors_, walls_, forces_, dt_);
   if (stability_.margin > worst_stability_.margin) worst_stability_ = stability_;
   return stability_;
@@ -1021,6 +1147,7 @@ const StepStability& Simulation::check_stability() {
 
 
 Energy Simulation::energy() const {
+  if (body_copy_lags_) update_body_copy();
   Energy e;
   const Bodies& b = bodies_;
   for (std::size_t k = 0; k < b.size(); ++k) {

@@ -43,6 +43,10 @@ struct SimulationSettings {
   // 2026-12-06's afternoon: for comparisons).
   enum class ListFrameChoice { automatic, world };
   ListFrameChoice list_frame = ListFrameChoice::automatic;
+  // A bed of loose spheres only keeps its bodies' state in its spheres' arrays (Simulation::
+  // spheres_hold_bodies_), or never (its bodies keep a copy of their own, as before 2026-12-07: for
+  // comparisons; the same numbers either way).
+  bool loose_bodies_in_spheres = true;
   RollingSettings rolling;
   double max_overlap_ratio = 0.3;   // overlap / radius that stops the run as a blow-up
   double scale_factor = 1;          // particle scale factor (metadata, written to every snapshot)
@@ -123,6 +127,7 @@ class Simulation {
   }
   /// The rigid bodies (what is integrated).
   const Bodies& bodies() const {
+    if (body_copy_lags_) update_body_copy();
     if (body_omega_lags_) update_body_omega();
     return bodies_;
   }
@@ -152,6 +157,9 @@ class Simulation {
   const ForceField& force_field() const { return forces_; }
   /// Set up (time step chosen, forces computed)?
   bool ready() const { return ready_; }
+  /// Whether the spheres hold their bodies' state now (a bed of loose spheres after a list build:
+  /// SimulationSettings::loose_bodies_in_spheres); for tests and reports.
+  bool loose_bodies_in_spheres() const { return spheres_hold_bodies_; }
 
   Energy energy() const;
   /// Bytes of particle, neighbour and contact data (memory report).
@@ -195,6 +203,12 @@ class Simulation {
   bool stability_due() const;
   void update_sphere_state() const;
   void update_body_omega() const;
+  /// Where the spheres hold their bodies' state (spheres_hold_bodies_): the bodies' x, v, force,
+  /// torque, and omega unless it lags, made from their spheres' (a cache, hence const).
+  void update_body_copy() const;
+  /// Whether every body is a loose sphere in the slot of its own index (body k is sphere k), as
+  /// renumber_bodies leaves a bed of loose spheres.
+  bool loose_spheres_in_order() const;
   void move_spheres_with_bodies();
   void index_spheres_by_body();
   void renumber_bodies();
@@ -262,6 +276,15 @@ class Simulation {
   bool ready_ = false;
   mutable bool sphere_state_lags_ = false;  // the spheres' q, v, omega are behind their bodies'
   mutable bool body_omega_lags_ = false;    // the bodies' omega is behind their L (the kick leaves it)
+  // A bed of loose spheres only, each body k the sphere in slot k (loose_spheres_in_order, checked at
+  // each indexing): the step keeps the bodies' position, velocity and angular velocity in their
+  // spheres' arrays, and takes their force and torque from their spheres' sums, instead of keeping a
+  // copy in the bodies' arrays and copying it to the spheres every step (the follow) and back
+  // (the sums). The bodies' arrays keep what only they hold: q, L, the masses and inertias. Their
+  // x, v, omega, force and torque are made from the spheres on demand (update_body_copy). The same
+  // numbers: a loose sphere's position is its body's, and its sums are its body's (sum_body).
+  bool spheres_hold_bodies_ = false;
+  mutable bool body_copy_lags_ = false;  // the bodies' x, v, omega, force, torque are behind their spheres'
 };
 
 }  // namespace grainscale::dem
