@@ -512,8 +512,13 @@ bool Simulation::loose_spheres_in_order() const {
   const std::size_t n = p.size();
   if (!settings_.loose_bodies_in_spheres || b.size() != n || !b.indexed(n)) return false;
   for (std::size_t k = 0; k < n; ++k) {
+    // (The step reads the sphere's copies of its body's mass and inertia: the same numbers.)
     const Vec3& o = p.offset[k];
-    if (b.shape[k] != -1 || p.body[k] != k || !(o.x == 0 && o.y == 0 && o.z == 0)) return false;
+    const Vec3& inertia = b.inertia[k];
+    if (b.shape[k] != -1 || p.body[k] != k || !(o.x == 0 && o.y == 0 && o.z == 0) || p.mass[k] != b.mass[k] ||
+        !(p.inertia[k] == inertia.x && inertia.x == inertia.y && inertia.y == inertia.z)) {
+      return false;
+    }
   }
   return true;
 }
@@ -652,7 +657,7 @@ void Simulation::sum_body(std::size_t k, double half_kick) {
   if (spheres_hold_bodies_) {  // body k is sphere k: its sums are the sphere's, kept there (update_body_copy)
     if (half_kick > 0) {
       Particles& p = particles_;
-      p.v[k] += (half_kick * b.inv_mass[k]) * lone_sphere_force(p.force[k], b.mass[k], settings_.gravity);
+      p.v[k] += (half_kick * b.inv_mass[k]) * lone_sphere_force(p.force[k], p.mass[k], settings_.gravity);
       b.L[k] += half_kick * lone_sphere_torque(p.force[k], p.torque[k]);
     }
     return;
@@ -956,13 +961,17 @@ double Simulation::drift_part(int team, int thread, double dt, std::uint64_t epo
       for (std::size_t k = first; k < last; ++k) {
         boundary.fetch_next_for_write();
         if constexpr (kInSpheres) {
-          v[k] += (half * b.inv_mass[k]) * lone_sphere_force(p.force[k], b.mass[k], gravity);
+          v[k] += (half * b.inv_mass[k]) * lone_sphere_force(p.force[k], p.mass[k], gravity);
           b.L[k] += half * lone_sphere_torque(p.force[k], p.torque[k]);
         } else {
           v[k] += (half * b.inv_mass[k]) * b.force[k];
           b.L[k] += half * b.torque[k];
         }
         x[k] += dt * v[k];
+        if constexpr (kInSpheres) {  // (the sphere's copies of its body's mass and inertia: loose_spheres_in_order)
+          isotropic.add(static_cast<std::uint32_t>(k), b.q[k], b.L[k], p.inertia[k]);
+          continue;
+        }
         const Vec3& inertia = b.inertia[k];
         if (inertia.x == inertia.y && inertia.y == inertia.z) {  // a sphere: one exact rotation
           isotropic.add(static_cast<std::uint32_t>(k), b.q[k], b.L[k], inertia.x);
