@@ -609,6 +609,12 @@ inline Vec3 lone_sphere_torque(const Vec3& contact_force, const Vec3& contact_to
   t += cross(Vec3{}, contact_force) + contact_torque;
   return t;
 }
+/// A half kick of body k, a sphere at its centre in slot k, in the sphere's v and the body's L, as
+/// sum_body and the drift kick a body (the same bits).
+inline void kick_lone_sphere(Particles& p, Bodies& b, std::size_t k, double half, const Vec3& gravity) {
+  p.v[k] += (half * b.inv_mass[k]) * lone_sphere_force(p.force[k], p.mass[k], gravity);
+  b.L[k] += half * lone_sphere_torque(p.force[k], p.torque[k]);
+}
 /// The largest follow_body over spheres [first, last), the frame's branch taken once.
 inline double follow_bodies(Particles& p, const Bodies& b, std::size_t first, std::size_t last, const double* slack,
                             std::size_t slack_n, const FrameShift& shift) {
@@ -654,14 +660,7 @@ std::size_t Simulation::first_crossing_body(int team, int t, std::size_t first, 
 
 void Simulation::sum_body(std::size_t k, double half_kick) {
   Bodies& b = bodies_;
-  if (spheres_hold_bodies_) {  // body k is sphere k: its sums are the sphere's, kept there (update_body_copy)
-    if (half_kick > 0) {
-      Particles& p = particles_;
-      p.v[k] += (half_kick * b.inv_mass[k]) * lone_sphere_force(p.force[k], p.mass[k], settings_.gravity);
-      b.L[k] += half_kick * lone_sphere_torque(p.force[k], p.torque[k]);
-    }
-    return;
-  }
+  assert(!spheres_hold_bodies_);  // (then a body's sums are its sphere's: sum_bodies)
   const Particles& p = particles_;
   Vec3 f{}, t{};
   for (std::uint32_t m = b.sphere_start[k]; m < b.sphere_start[k + 1]; ++m) {
@@ -688,6 +687,7 @@ void Simulation::sum_ready_bodies(int team, int thread, std::size_t from, std::s
   // first that may cross into the range above (left to sum_bodies, which waits for it).
   const Bodies& b = bodies_;
   if (!b.indexed(particles_.size())) return;  // bodies added since the last build: sum_bodies
+  assert(!spheres_hold_bodies_);              // (wants_ready: a body per sphere)
   if (!progress.started) {
     std::size_t first = 0, last = 0, sphere_first = 0, sphere_last = 0;
     thread_bodies(team, thread, first, last);
@@ -714,6 +714,15 @@ void Simulation::sum_bodies(const ForceTeam& team, double half_kick, const After
   const int thread = team.thread();
   std::size_t first = 0, last = 0, sphere_first = 0, sphere_last = 0;
   thread_bodies(team.size(), thread, first, last);
+  // Where the spheres hold their bodies' state (spheres_hold_bodies_), body k is sphere k, in this
+  // thread's range: its sums are the sphere's (update_body_copy makes the bodies' for a reader); only
+  // the half kick is left to do.
+  if (spheres_hold_bodies_) {
+    if (half_kick > 0) {
+      for (std::size_t k = first; k < last; ++k) kick_lone_sphere(particles_, bodies_, k, half_kick, settings_.gravity);
+    }
+    return;
+  }
   forces_.thread_spheres(n, team.size(), thread, sphere_first, sphere_last);
   // The list build before the force loop indexed the spheres by body, so thread_bodies gave the
   // bodies that start in the range; were it not so, every body could have spheres anywhere.
@@ -961,8 +970,7 @@ double Simulation::drift_part(int team, int thread, double dt, std::uint64_t epo
       for (std::size_t k = first; k < last; ++k) {
         boundary.fetch_next_for_write();
         if constexpr (kInSpheres) {
-          v[k] += (half * b.inv_mass[k]) * lone_sphere_force(p.force[k], p.mass[k], gravity);
-          b.L[k] += half * lone_sphere_torque(p.force[k], p.torque[k]);
+          kick_lone_sphere(p, b, k, half, gravity);
         } else {
           v[k] += (half * b.inv_mass[k]) * b.force[k];
           b.L[k] += half * b.torque[k];
