@@ -116,7 +116,8 @@ class Simulation {
   /// One line on how dt was chosen, for the log.
   std::string time_step_report() const;
 
-  /// The component spheres (what contacts act on).
+  /// The component spheres (what contacts act on). Their x, v and omega follow their bodies: they are
+  /// not the way to move a body (in a bed of loose spheres they are its state, elsewhere a copy).
   Particles& particles() {
     if (sphere_state_lags_) update_sphere_state();
     return particles_;
