@@ -526,17 +526,17 @@ bool Simulation::loose_spheres_in_order() const {
 void Simulation::index_spheres_by_body() {
   index_spheres(particles_, bodies_, body_fill_);
   // Where the bodies' state is kept (spheres_hold_bodies_). Taken over by the spheres: theirs made
-  // the bodies' (the follow leaves them so already, but for the sign of a zero); given back (bodies
-  // added since do that themselves, add_body): the bodies' made from the spheres'.
+  // the bodies' (the follow leaves them so already, but for the sign of a zero). Only add_body and
+  // restore change the bodies, and both give the state back to the bodies' arrays first, so a bed
+  // whose spheres hold it stays one.
   const bool loose = loose_spheres_in_order();
+  assert(loose || !spheres_hold_bodies_);
   if (loose && !spheres_hold_bodies_) {
     if (body_omega_lags_) update_body_omega();
     Particles& p = particles_;
     const Bodies& b = bodies_;
     for (std::size_t k = 0; k < b.size(); ++k) p.x[k] = b.x[k], p.v[k] = b.v[k], p.omega[k] = b.omega[k];
     body_copy_lags_ = false;
-  } else if (!loose && spheres_hold_bodies_ && body_copy_lags_) {
-    update_body_copy();
   }
   spheres_hold_bodies_ = loose;
   // Within a body the slots are ascending (index_spheres), so its first and last are its extent.
@@ -786,30 +786,23 @@ void Simulation::update_body_omega() const {
   const std::size_t nb = b.size();
 #pragma omp parallel for if(nb >= parallel_min_items()) schedule(static)
   for (std::size_t k = 0; k < nb; ++k) b.omega[k] = body_angular_velocity(b.q[k], b.L[k], b.inertia[k]);
-  // Where the spheres hold their bodies' omega, it is theirs too (update_body_copy copies it back).
-  if (spheres_hold_bodies_) {
-    Particles& p = const_cast<Particles&>(particles_);
-    std::copy(b.omega.begin(), b.omega.end(), p.omega.begin());
-  }
   body_omega_lags_ = false;
 }
 
 void Simulation::update_body_copy() const {
-  // Every body a loose sphere (spheres_hold_bodies_, or until add_body or index_spheres_by_body
-  // gives their state back): k = p.body[s].
+  // The spheres hold their bodies' state (spheres_hold_bodies_, or add_body is about to give it
+  // back): body k is sphere k. (Omega is made from L, update_body_omega.)
   Bodies& b = const_cast<Bodies&>(bodies_);
   const Particles& p = particles_;
   const std::size_t n = p.size();
-  const bool omega = !body_omega_lags_;
   const Vec3 g = settings_.gravity;
 #pragma omp parallel for if(n >= parallel_min_items()) schedule(static)
-  for (std::size_t s = 0; s < n; ++s) {
-    const std::uint32_t k = p.body[s];
-    b.x[k] = p.x[s];
-    b.v[k] = p.v[s];
-    if (omega) b.omega[k] = p.omega[s];
-    b.force[k] = lone_sphere_force(p.force[s], b.mass[k], g);
-    b.torque[k] = lone_sphere_torque(p.force[s], p.torque[s]);
+  for (std::size_t k = 0; k < n; ++k) {
+    assert(p.body[k] == k);
+    b.x[k] = p.x[k];
+    b.v[k] = p.v[k];
+    b.force[k] = lone_sphere_force(p.force[k], p.mass[k], g);
+    b.torque[k] = lone_sphere_torque(p.force[k], p.torque[k]);
   }
   body_copy_lags_ = false;
 }
@@ -1132,7 +1125,10 @@ bool Simulation::drifted(int team) {
   double moved2 = 0;
   for (int t = 0; t < team; ++t) moved2 = std::max(moved2, moved2_of_[t].value);
   moved2_ = moved2;
-  body_omega_lags_ = false;   // every body's omega made afresh by the drift
+  // Every body's omega made afresh by the drift: in the bodies' array, or, where the spheres hold
+  // their bodies' state, in the spheres' only (the bodies' then made from L for a reader: the same
+  // (1 / I) L, the same bits).
+  body_omega_lags_ = spheres_hold_bodies_;
   body_copy_lags_ = spheres_hold_bodies_;
   sphere_state_lags_ = true;  // orientations (output only) are not copied there; velocities go stale at the kick
   time_ += dt_;

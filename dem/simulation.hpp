@@ -204,8 +204,8 @@ class Simulation {
   bool stability_due() const;
   void update_sphere_state() const;
   void update_body_omega() const;
-  /// Where the spheres hold their bodies' state (spheres_hold_bodies_): the bodies' x, v, force,
-  /// torque, and omega unless it lags, made from their spheres' (a cache, hence const).
+  /// Where the spheres hold their bodies' state (spheres_hold_bodies_): the bodies' x, v, force and
+  /// torque made from their spheres' (a cache, hence const; omega is made from L, update_body_omega).
   void update_body_copy() const;
   /// Whether every body is a loose sphere in the slot of its own index (body k is sphere k), as
   /// renumber_bodies leaves a bed of loose spheres.
@@ -282,10 +282,11 @@ class Simulation {
   // spheres' arrays, and takes their force and torque from their spheres' sums, instead of keeping a
   // copy in the bodies' arrays and copying it to the spheres every step (the follow) and back
   // (the sums). The bodies' arrays keep what only they hold: q, L, the masses and inertias. Their
-  // x, v, omega, force and torque are made from the spheres on demand (update_body_copy). The same
-  // numbers: a loose sphere's position is its body's, and its sums are its body's (sum_body).
+  // x, v, force and torque are made from the spheres on demand (update_body_copy), their omega from
+  // L (update_body_omega). The same numbers: a loose sphere's position is its body's, and its sums
+  // are its body's (sum_body).
   bool spheres_hold_bodies_ = false;
-  mutable bool body_copy_lags_ = false;  // the bodies' x, v, omega, force, torque are behind their spheres'
+  mutable bool body_copy_lags_ = false;  // the bodies' x, v, force, torque are behind their spheres'
 };
 
 }  // namespace grainscale::dem
