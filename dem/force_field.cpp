@@ -518,9 +518,10 @@ void ForceField::pass_with(const Models<Rolling>& m, int threads, int thread, Pa
     const WallGeometry::Hint* const hints = hinted_walls_ > 0 ? wall_hints_.data() : nullptr;
     // The lines block `ahead` will walk in order, in beds too large for the caches (prefetch_blocks),
     // into the second-level cache, those to be written too (dem/prefetch.hpp). Until 2026-12-07
-    // they went to the first level, the written ones requested for writing (prefetchw): separate
-    // runs of one binary, the kind switched by the environment (twenty-first session, 1 thread, three
-    // rounds), the 10^5 bed 7.31, 7.47, 7.57 against 6.80, 6.93, 7.01 M sphere-steps/s (+8 %).
+    // they went to the first level, the written ones requested for writing (prefetchw). Separate
+    // runs of one binary, the kind switched by the environment (twenty-first session, rounds of
+    // both): the 10^5 bed +2.5 to +12.6 % on 1 thread (eleven rounds), +2.8 to +10 % per CPU on 2;
+    // the platform box mid-rise +6 to +10 % on 1, +1.7 to +16 % on 2 (docs/performance.md).
     // Inlined as the A/Bs measured it (GCC 12 put it out of line once it requested the row starts).
     auto prefetch_block = [&](std::size_t ahead) __attribute__((always_inline)) {
       const std::size_t lo = ahead * kPassBlock, hi = std::min(n, lo + kPassBlock);
