@@ -40,12 +40,13 @@ inline void prefetch_for_write(const void* p) {
 
 /// Ask for the cache line holding `p` to be brought into the second-level cache, for a use some
 /// hundreds of nanoseconds off, read or written. Why not into the first level (prefetcht0,
-/// prefetchw) for lines wanted that far ahead: those wait in the first level's few miss buffers,
-/// and a stream of them starves the loop's own loads and the hardware's prefetches. A
-/// microbenchmark on AMD EPYC (Zen 4, 2026-12-07: 16 arrays read in step, each line requested 8
-/// blocks ahead) streams 10.3 GB/s with prefetcht0, 23.7 with prefetcht1, 30.6 with none; the
-/// force loop's block prefetch: docs/performance.md, "twenty-first session". A store to a line
-/// that came this way finds it held by no other core (exclusive), so needs no second request.
+/// prefetchw) for lines wanted that far ahead: those hold one of the first level's few miss buffers
+/// until the line arrives, and a stream of them starves the loop's own loads and the hardware's
+/// prefetchers. bench/prefetch_streams.c on AMD EPYC (Zen 4, 2026-12-07), 16 arrays read in step,
+/// each line requested 8 blocks ahead: 11.3 GB/s with prefetcht0, 25.1 with prefetcht1 (34.2 with
+/// none, but past 16 arrays the hardware loses track: 24 arrays 18.7, and 20.2 with prefetcht1).
+/// The force loop's block prefetch: docs/performance.md, "twenty-first session". A line that came
+/// this way and that no other core holds comes exclusive, so a store to it needs no second request.
 inline void prefetch_to_l2(const void* p) {
 #if defined(__x86_64__)
   asm volatile("prefetcht1 (%0)" : : "r"(p));
@@ -54,23 +55,27 @@ inline void prefetch_to_l2(const void* p) {
 #endif
 }
 
+/// `request` for every 64-byte line of [from, to) (a lambda, so that it is inlined).
+template <class T, class Request>
+inline void each_line(const T* from, const T* to, Request request) {
+  const char* line = reinterpret_cast<const char*>(reinterpret_cast<std::uintptr_t>(from) & ~std::uintptr_t{63});
+  const char* const end = reinterpret_cast<const char*>(to);
+  for (; line < end; line += 64) request(line);
+}
+
 /// Every 64-byte line of [from, to), into the second level (prefetch_to_l2).
 template <class T>
 inline void prefetch_lines_to_l2(const T* from, const T* to) {
-  const char* line = reinterpret_cast<const char*>(reinterpret_cast<std::uintptr_t>(from) & ~std::uintptr_t{63});
-  const char* const end = reinterpret_cast<const char*>(to);
-  for (; line < end; line += 64) prefetch_to_l2(line);
+  each_line(from, to, [](const char* line) { prefetch_to_l2(line); });
 }
 
-/// Every 64-byte line of [from, to), to be read or (`for_write`) written.
+/// Every 64-byte line of [from, to), to be read or (`for_write`) written, into the first level.
 template <class T>
 inline void prefetch_lines(const T* from, const T* to, bool for_write = false) {
-  const char* line = reinterpret_cast<const char*>(reinterpret_cast<std::uintptr_t>(from) & ~std::uintptr_t{63});
-  const char* const end = reinterpret_cast<const char*>(to);
   if (for_write) {
-    for (; line < end; line += 64) prefetch_for_write(line);
+    each_line(from, to, [](const char* line) { prefetch_for_write(line); });
   } else {
-    for (; line < end; line += 64) prefetch_for_read(line);
+    each_line(from, to, [](const char* line) { prefetch_for_read(line); });
   }
 }
 
