@@ -28,9 +28,9 @@ Simulation::Simulation(MaterialTable materials, SimulationSettings settings)
 
 std::uint64_t Simulation::add_body(double mass, const Vec3& inertia, const Vec3& x, const Quat& q, const Vec3& v,
                                    const Vec3& omega, int shape) {
-  if (body_omega_lags_) update_body_omega();  // (made later, the new body's omega would be made from its L)
-  // The bodies' own arrays hold their state again until the next indexing (index_spheres_by_body).
-  if (body_copy_lags_) update_body_copy();
+  // Made later, the new body's omega would be made from its L. The bodies' own arrays hold their
+  // state again until the next indexing (index_spheres_by_body).
+  update_bodies();
   spheres_hold_bodies_ = false;
   Bodies& b = bodies_;
   const std::uint64_t id = b.size();
@@ -772,12 +772,21 @@ void Simulation::compute_forces(double half_kick) {
   // omega = omega(q, L) is not made here: the next drift makes it afresh from L after its half kick,
   // and nothing in between reads it, so it is made only for a reader (update_body_omega). A clump's
   // omega, two rotations and three divisions, was a third of this loop on the clump bed.
-  if (half_kick > 0) body_omega_lags_ = true;
-  body_copy_lags_ = spheres_hold_bodies_;
+  bodies_summed(half_kick > 0);
   // A blow-up is reported with the state it happened in: the sums above change only the bodies'
   // forces, velocities and angular momenta (a bed of loose spheres: its spheres' velocities), which
   // the report does not read.
   check_health();
+}
+
+void Simulation::bodies_summed(bool kicked) {
+  if (kicked) body_omega_lags_ = true;
+  body_copy_lags_ = spheres_hold_bodies_;
+}
+
+void Simulation::update_bodies() const {
+  if (body_copy_lags_) update_body_copy();
+  if (body_omega_lags_) update_body_omega();
 }
 
 void Simulation::update_body_omega() const {
@@ -808,8 +817,7 @@ void Simulation::update_body_copy() const {
 }
 
 void Simulation::move_spheres_with_bodies() {
-  if (body_copy_lags_) update_body_copy();
-  if (body_omega_lags_) update_body_omega();
+  update_bodies();
   Particles& p = particles_;
   const std::size_t n = p.size();
   double moved2 = 0;
@@ -1030,8 +1038,7 @@ void Simulation::update_sphere_state() const {
   // The spheres' orientations, and their velocities at the full step, are for output and
   // diagnostics only (the force loop needs neither; the next drift sets the velocities afresh), so
   // they are brought up to date on demand: a cache of the bodies' state, hence const.
-  if (body_copy_lags_) update_body_copy();
-  if (body_omega_lags_) update_body_omega();
+  update_bodies();
   Particles& p = const_cast<Particles&>(particles_);
   const Bodies& b = bodies_;
   const std::size_t n = p.size();
@@ -1101,8 +1108,7 @@ std::uint64_t Simulation::steps_in_region(std::uint64_t most) {
       forces_.pass(team, thread, particles_, neighbors_, walls_, dt_, &sums);
       step_signals_.meet(team, thread, e + 3, e + 4, [&] {
         diag_ = forces_.finish(dt_);
-        body_omega_lags_ = true;  // the sums' half kick leaves omega to the next drift (compute_forces)
-        body_copy_lags_ = spheres_hold_bodies_;
+        bodies_summed(true);
         ++done;
         if (!healthy() || stability_due() || done == most) left = Left::after_forces;
       });

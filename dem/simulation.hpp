@@ -128,8 +128,7 @@ class Simulation {
   }
   /// The rigid bodies (what is integrated).
   const Bodies& bodies() const {
-    if (body_copy_lags_) update_body_copy();
-    if (body_omega_lags_) update_body_omega();
+    update_bodies();
     return bodies_;
   }
   const std::vector<std::string>& shape_names() const { return shape_names_; }
@@ -203,6 +202,11 @@ class Simulation {
   bool healthy() const;
   bool stability_due() const;
   void update_sphere_state() const;
+  /// After the bodies' sums (with a half kick if `kicked`): what they leave behind (omega behind L,
+  /// and where the spheres hold the bodies' state, the bodies' copy behind the spheres).
+  void bodies_summed(bool kicked);
+  /// The bodies' arrays brought up to date for a reader (update_body_copy, update_body_omega).
+  void update_bodies() const;
   void update_body_omega() const;
   /// Where the spheres hold their bodies' state (spheres_hold_bodies_): the bodies' x, v, force and
   /// torque made from their spheres' (a cache, hence const; omega is made from L, update_body_omega).
