@@ -14,7 +14,10 @@
 namespace grainscale::fuzz {
 
 inline const std::filesystem::path& work_dir() {
-  static const std::filesystem::path dir = [] {
+  // Made once and never destroyed: the exit handler below, registered while it is made, runs after
+  // the destructors of statics made later, and a path held by value would be gone by then (the
+  // folder was left behind by every run, 13 of them per test suite).
+  static const std::filesystem::path* const dir = [] {
     std::string tmpl = (std::filesystem::temp_directory_path() / "grainscale_fuzz_XXXXXX").string();
     if (mkdtemp(tmpl.data()) == nullptr) std::abort();
     const std::filesystem::path d = tmpl;
@@ -42,9 +45,9 @@ inline const std::filesystem::path& work_dir() {
       std::error_code ec;
       std::filesystem::remove_all(work_dir(), ec);
     });
-    return d;
+    return new std::filesystem::path(d);
   }();
-  return dir;
+  return *dir;
 }
 
 /// Write the fuzz input to `name` in the work folder and return its path.

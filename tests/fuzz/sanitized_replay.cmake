@@ -85,3 +85,10 @@ foreach(entry ${GRAINSCALE_FUZZ_TARGETS})
   set_tests_properties(sanitized_corpus_${name} PROPERTIES LABELS sanitizer ENVIRONMENT
     "ASAN_OPTIONS=detect_leaks=1:abort_on_error=0:halt_on_error=1;UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1;OMP_WAIT_POLICY=passive")
 endforeach()
+
+# The replays remove their work folders (tests/fuzz/check_work_dir_removed.cmake).
+add_test(NAME sanitized_corpus_work_dir_removed
+         COMMAND ${CMAKE_COMMAND} -DREPLAY=$<TARGET_FILE:replay_materials> -DCORPUS=${corpus_root}/materials
+                 -DTMP=${CMAKE_CURRENT_BINARY_DIR}/work_dir_removed_tmp -P ${CMAKE_CURRENT_LIST_DIR}/check_work_dir_removed.cmake)
+set_tests_properties(sanitized_corpus_work_dir_removed PROPERTIES LABELS sanitizer ENVIRONMENT
+  "ASAN_OPTIONS=detect_leaks=1:abort_on_error=0:halt_on_error=1;UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1;OMP_WAIT_POLICY=passive")
