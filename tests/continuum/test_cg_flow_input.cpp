@@ -4,7 +4,6 @@
 
 #include <catch2/catch.hpp>
 #include <cmath>
-#include <filesystem>
 #include <limits>
 #include <string>
 #include <vector>
@@ -12,6 +11,7 @@
 #include "hdf5_writer_fixture.hpp"
 #include "continuum/gridded_flow.hpp"
 #include "dem/input_error.hpp"
+#include "tests/temp_dir.hpp"
 
 using namespace grainscale::continuum;
 using Catch::Matchers::Contains;
@@ -26,9 +26,10 @@ using grainscale::testing::dataset;
 /// u = g (z - h/2) with shear rate g below a flat surface h; the first column is empty (h NaN).
 /// The granular temperature is T = (n + 1)² 1e-4 (1 + z / h) m²/s² in frame n. The solid fraction is
 /// 0.6, except the top cell below the surface: `top_phi`, where u has `jet` added (a fast, dilute
-/// surface flow).
-std::string write_cg_file(double g, double h, int frames, double jet = 0, double top_phi = 0.6) {
-  const std::string path = (std::filesystem::temp_directory_path() / "grainscale_test_cg_fields.h5").string();
+/// surface flow). Written as `dir`/cg_fields.h5, replacing an earlier one there.
+std::string write_cg_file(const grainscale::testing::TempDir& dir, double g, double h, int frames, double jet = 0,
+                          double top_phi = 0.6) {
+  const std::string path = dir / "cg_fields.h5";
   const int nx = 16, nz = 10;
   const hid_t f = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
   attribute(f, "cg_layout_version", 1);
@@ -75,14 +76,14 @@ std::string write_cg_file(double g, double h, int frames, double jet = 0, double
 
 TEST_CASE("Mobility from the granular temperature: the rate is sqrt(T) / d, the flow unchanged", "[continuum][flow]") {
   const double g = 0.3, h = 0.1, d = 5e-3;
-  const std::string path = write_cg_file(g, h, 2);
+  const grainscale::testing::TempDir tmp;  // a fresh folder, removed at the end: parallel ctest processes cannot race
+  const std::string path = write_cg_file(tmp, g, h, 2);
   const GriddedFlow by_shear = GriddedFlow::load(path, 0.8, 1);
   const GriddedFlow by_temperature = GriddedFlow::load(path, 0.8, 1, d);
   for (const double z : {0.03, 0.05}) {  // data levels (cell centres), so no interpolation between them
     CHECK_THAT(by_temperature.shear_rate(0.4, z, 0), WithinAbs(std::sqrt(4e-4 * (1 + z / h)) / d, 1e-9));
     CHECK_THAT(by_temperature.stream_function(0.4, z, 0), WithinAbs(by_shear.stream_function(0.4, z, 0), 1e-15));
   }
-  std::filesystem::remove(path);
 }
 
 TEST_CASE("The volume flux keeps a dilute surface jet's return flow out of the dense bed", "[continuum][flow]") {
@@ -91,23 +92,23 @@ TEST_CASE("The volume flux keeps a dilute surface jet's return flow out of the d
   // the whole bed. Weighted by the solid fraction the jet carries 0.03 / phi_mean of it, and so
   // does the return flow. With a uniform phi both are the same flow.
   const double h = 0.1;
-  const std::string jet = write_cg_file(0.0, h, 1, 0.1, 0.03);
+  const grainscale::testing::TempDir tmp;
+  const std::string jet = write_cg_file(tmp, 0.0, h, 1, 0.1, 0.03);
   const GriddedFlow by_velocity = GriddedFlow::load(jet, 0.8, 0), by_volume = GriddedFlow::load(jet, 0.8, 0, 0, true);
   auto interior_u = [](const GriddedFlow& f) { return (f.stream_function(0.4, 0.05, 0) - f.stream_function(0.4, 0.03, 0)) / 0.02; };
   const double phi_mean = (4 * 0.6 + 0.03) / 5;  // the five data levels below h (z = 0.01 ... 0.09)
   INFO("interior u: " << interior_u(by_velocity) << " by velocity, " << interior_u(by_volume) << " by volume flux");
   CHECK(interior_u(by_velocity) < -0.01);  // a return flow of about 0.1 x (cell / depth) through the resting bed
   CHECK(interior_u(by_volume) == Approx(interior_u(by_velocity) * 0.03 / phi_mean).epsilon(0.05));
-  std::filesystem::remove(jet);
-  const std::string shear = write_cg_file(0.3, h, 1);
+  const std::string shear = write_cg_file(tmp, 0.3, h, 1);  // replaces the jet's file, already loaded
   const GriddedFlow a = GriddedFlow::load(shear, 0.8, 0), b = GriddedFlow::load(shear, 0.8, 0, 0, true);
   for (const double z : {0.01, 0.03, 0.05, 0.07}) CHECK_THAT(b.stream_function(0.4, z, 0), WithinAbs(a.stream_function(0.4, z, 0), 1e-15));
-  std::filesystem::remove(shear);
 }
 
 TEST_CASE("A coarse-grained field file is read as the flow: shear rate, surface, chosen frame", "[continuum][flow]") {
   const double g = 0.3, h = 0.1;
-  const std::string path = write_cg_file(g, h, 2);
+  const grainscale::testing::TempDir tmp;
+  const std::string path = write_cg_file(tmp, g, h, 2);
   const GriddedFlow last = GriddedFlow::load(path, 0.8);  // default: the last frame (n = 1: rate 2 g)
   const GriddedFlow first = GriddedFlow::load(path, 0.8, 0);
   CHECK_THAT(first.shear_rate(0.4, 0.03, 0), WithinAbs(g, 1e-12));

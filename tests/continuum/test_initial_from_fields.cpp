@@ -5,7 +5,6 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <string>
@@ -16,6 +15,7 @@
 #include "continuum/initial_from_fields.hpp"
 #include "continuum/settings.hpp"
 #include "dem/input_error.hpp"
+#include "tests/temp_dir.hpp"
 
 using namespace grainscale::continuum;
 using Catch::Matchers::Contains;
@@ -30,8 +30,8 @@ using grainscale::testing::dataset;
 // three layers, above it phi = 0.05 (a few grains: not bed); column 3 holds no particles.
 double truth(int j, int k) { return 0.1 + (0.01 + 0.02 * j) + 2 * (0.005 + 0.01 * k); }
 
-std::string write_frame_file() {
-  const std::string path = (std::filesystem::temp_directory_path() / "grainscale_test_initial_fields.h5").string();
+std::string write_frame_file(const grainscale::testing::TempDir& dir) {
+  const std::string path = dir / "initial_fields.h5";
   const int nx = 10, ny = 2, nz = 5;
   const hid_t f = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
   attribute(f, "cg_layout_version", 1);
@@ -70,7 +70,9 @@ std::string write_frame_file() {
 }  // namespace
 
 TEST_CASE("The initial field comes from a coarse-grained frame: nearest bed cell, y-averaged", "[continuum][initial]") {
-  const std::string path = write_frame_file();
+  // A fresh folder holds the frame file and the YAML beside it: a parallel ctest cannot race on them.
+  const grainscale::testing::TempDir dir;
+  const std::string path = write_frame_file(dir);
   // Model columns at x = 0.025, 0.075, 0.125, 0.175 m, layers at z = 5, 15, 25, 35 mm.
   const Grid g = Grid::flat(0.2, 0.04, 4, 4);
   const std::vector<double> c = initial_from_cg_frame(path, 0, 0.3, g);
@@ -88,12 +90,11 @@ TEST_CASE("The initial field comes from a coarse-grained frame: nearest bed cell
   CHECK_THROWS_WITH(initial_from_cg_frame(path, 1, 0.3, g), Contains("initial.frame = 1") && Contains("frames 0 to 0"));
 
   // Through the model settings: `initial: {type: file, ...}`, the file beside the YAML.
-  const std::filesystem::path dir = std::filesystem::temp_directory_path();
-  const std::string yaml = (dir / "grainscale_test_initial.yaml").string();
+  const std::string yaml = dir / "initial.yaml";
   std::ofstream(yaml) << "grid: {length: 0.2, nx: 4, nz: 4, depth: 0.04}\n"
                          "flow: {type: uniform_shear, shear_rate: 1.0}\n"
                          "terms: {segregation: {S: 1.0e-3}}\n"
-                         "initial: {type: file, file: grainscale_test_initial_fields.h5, frame: 0, min_solid_fraction: 0.3}\n"
+                         "initial: {type: file, file: initial_fields.h5, frame: 0, min_solid_fraction: 0.3}\n"
                          "time: {end: 10}\n"
                          "output: {folder: out}\n";
   const ContinuumSettings s = load_continuum_settings(yaml);
@@ -105,6 +106,4 @@ TEST_CASE("The initial field comes from a coarse-grained frame: nearest bed cell
                          "time: {end: 10}\n"
                          "output: {folder: out}\n";
   CHECK_THROWS_WITH(load_continuum_settings(yaml), Contains("initial.file") && Contains("nowhere.h5"));
-  std::filesystem::remove(yaml);
-  std::filesystem::remove(path);
 }

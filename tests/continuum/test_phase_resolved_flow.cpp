@@ -6,7 +6,6 @@
 
 #include <catch2/catch.hpp>
 #include <cmath>
-#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <numbers>
@@ -20,6 +19,7 @@
 #include "continuum/phase_resolved_flow.hpp"
 #include "continuum/run_continuum.hpp"
 #include "dem/input_error.hpp"
+#include "tests/temp_dir.hpp"
 
 using namespace grainscale::continuum;
 using namespace grainscale::continuum::test;
@@ -46,9 +46,8 @@ SloshingFlow::Shape shape() {
 
 /// A cg field file (docs/coarsegrain_layout.md, 2-D grid 40 × 30 cells over 0.4 m × 0.15 m) with
 /// `bins` phase-averaged frames of the sloshing flow, plus one snapshot frame (not a phase average)
-/// and one empty phase bin, both of which the reader must skip.
-std::string write_phase_file(const SloshingFlow& flow, int bins, const std::string& name) {
-  const std::string path = (std::filesystem::temp_directory_path() / name).string();
+/// and one empty phase bin, both of which the reader must skip. Written to `path`, which is returned.
+std::string write_phase_file(const SloshingFlow& flow, int bins, const std::string& path) {
   const int nx = 40, nz = 30;
   const double L = 0.4, Z = 0.15, T = flow.shape().period;
   const hid_t f = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
@@ -104,7 +103,8 @@ std::string write_phase_file(const SloshingFlow& flow, int bins, const std::stri
 TEST_CASE("Phase-resolved fields interpolate in space and phase, periodic, with a moving surface",
           "[continuum][flow][phases]") {
   const SloshingFlow exact(shape());
-  const std::string file = write_phase_file(exact, 16, "grainscale_test_phase_fields.h5");
+  const grainscale::testing::TempDir tmp;  // a fresh folder, removed at the end: parallel ctest processes cannot race
+  const std::string file = write_phase_file(exact, 16, tmp / "phase_fields.h5");
   REQUIRE(GriddedFlow::phase_frames(file).size() == 16u);  // the snapshot frame and the empty bin skipped
   const PhaseResolvedFlow flow = PhaseResolvedFlow::load(file, 0.4, 2.0, 0.0, true);
   CHECK(flow.phases() == 16);
@@ -156,7 +156,8 @@ TEST_CASE("Phase-resolved fields interpolate in space and phase, periodic, with 
 
 TEST_CASE("Phase-resolved fields drive the model: chaff conserved, a uniform c stays uniform", "[continuum][flow][phases]") {
   const SloshingFlow exact(shape());
-  const std::string file = write_phase_file(exact, 8, "grainscale_test_phase_fields8.h5");
+  const grainscale::testing::TempDir tmp;
+  const std::string file = write_phase_file(exact, 8, tmp / "phase_fields.h5");
   auto flow = std::make_shared<PhaseResolvedFlow>(PhaseResolvedFlow::load(file, 0.4, 2.0, 0.0, true));
   const int nx = 24, nz = 8;
   std::vector<double> nodes(nx + 1);
@@ -185,10 +186,9 @@ TEST_CASE("Phase-resolved fields drive the model: chaff conserved, a uniform c s
 
 TEST_CASE("Phase-resolved fields from YAML; bad phase input is an InputError", "[continuum][flow][phases][input]") {
   const SloshingFlow exact(shape());
-  const std::string file = write_phase_file(exact, 8, "grainscale_test_phase_fields_yaml.h5");
-  const auto dir = std::filesystem::temp_directory_path() / "grainscale_continuum_phases";
-  std::filesystem::create_directories(dir);
-  const std::string yaml = (dir / "run.yaml").string();
+  const grainscale::testing::TempDir tmp("continuum_phases");  // the field file, the YAML and its output
+  const std::string file = write_phase_file(exact, 8, tmp / "phase_fields.h5");
+  const std::string yaml = tmp / "run.yaml";
   auto write = [&](const std::string& flow_line, const std::string& grid_line) {
     std::ofstream(yaml) << grid_line << "\nflow: " << flow_line << R"(
 terms:

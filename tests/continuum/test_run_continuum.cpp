@@ -15,6 +15,7 @@
 #include "continuum/h5_writer.hpp"
 #include "continuum/run_continuum.hpp"
 #include "dem/input_error.hpp"
+#include "tests/temp_dir.hpp"
 
 using namespace grainscale::continuum;
 namespace fs = std::filesystem;
@@ -34,13 +35,6 @@ integrator: {method: cvode, rtol: 1.0e-7, atol: 1.0e-10}
 observation: {kappa: 150, delta: 0.01}
 output: {folder: out, slice_width: 0.05}
 )";
-
-fs::path scratch(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("grainscale_continuum_" + name);
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
 
 std::string write(const fs::path& dir, const std::string& text) {
   const fs::path file = dir / "run.yaml";
@@ -72,7 +66,8 @@ std::vector<std::string> csv_row(const std::string& file, int row) {
 }  // namespace
 
 TEST_CASE("A YAML run writes versioned HDF5 and CSV output and conserves chaff", "[continuum][driver]") {
-  const fs::path dir = scratch("good");
+  const grainscale::testing::TempDir tmp("continuum_good");  // a fresh folder, removed at the end: parallel ctest processes cannot race
+  const fs::path& dir = tmp.path;
   const ContinuumSettings settings = load_continuum_settings(write(dir, kGood));
   const ContinuumRunSummary r = run_continuum(settings);
   REQUIRE(fs::exists(r.h5_file));
@@ -141,7 +136,8 @@ TEST_CASE("Bad continuum input throws InputError naming file and key", "[continu
                            Bad{"type: cellular, amplitude: 5.0e-4, background_shear: 0.05", "type: sloshing, amplitude: 0.2, period: 2", "flow.amplitude"},
                            Bad{"type: cellular, amplitude: 5.0e-4, background_shear: 0.05", "type: sloshing, amplitude: 0.01", "flow.period"},
                            Bad{"type: cellular, amplitude: 5.0e-4, background_shear: 0.05", "type: sloshing, amplitude: 0.01, period: 2, exponent: 1.5", "flow.exponent"});
-  const fs::path dir = scratch("bad");
+  const grainscale::testing::TempDir tmp("continuum_bad");
+  const fs::path& dir = tmp.path;
   const std::string file = write(dir, replaced(kGood, bad.from, bad.to));
   INFO("replacing '" << bad.from << "' by '" << bad.to << "'");
   try {
@@ -156,7 +152,8 @@ TEST_CASE("Bad continuum input throws InputError naming file and key", "[continu
 }
 
 TEST_CASE("A YAML run with a sloshing surface writes the surface per output and conserves chaff", "[continuum][driver][moving]") {
-  const fs::path dir = scratch("sloshing");
+  const grainscale::testing::TempDir tmp("continuum_sloshing");
+  const fs::path& dir = tmp.path;
   std::string text = replaced(kGood, "type: cellular, amplitude: 5.0e-4, background_shear: 0.05",
                               "type: sloshing, amplitude: 0.01, period: 4.0, cell: 3.0e-4, background_shear: 0.05");
   text = replaced(text, "end: 120, outputs: 4, stops: [45]", "end: 13, outputs: 4");  // t = 13 s: h ≠ H
@@ -182,7 +179,8 @@ TEST_CASE("A YAML run with a sloshing surface writes the surface per output and 
 }
 
 TEST_CASE("A YAML run of the depth-averaged model", "[continuum][driver][depth_averaged]") {
-  const fs::path dir = scratch("depth_averaged");
+  const grainscale::testing::TempDir tmp("continuum_depth_averaged");
+  const fs::path& dir = tmp.path;
   const std::string text = "model: {type: depth_averaged}\n" + std::string(kGood);
   const ContinuumSettings s = load_continuum_settings(write(dir, text));
   CHECK(s.closure == Closure::depth_averaged);
@@ -228,7 +226,8 @@ TEST_CASE("Coarse-grained fields from HDF5 give the flow they sample", "[continu
       rate[k * nxd + j] = 0.3;
     }
   }
-  const fs::path dir = scratch("fields");
+  const grainscale::testing::TempDir tmp("continuum_fields");
+  const fs::path& dir = tmp.path;
   const std::string file = (dir / "fields.h5").string();
   {
     H5Writer w(file);

@@ -8,6 +8,7 @@
 #include "dem/material.hpp"
 #include "dem/scenario.hpp"
 #include "dem/time_step.hpp"
+#include "tests/temp_dir.hpp"
 
 using namespace grainscale;
 using namespace grainscale::dem;
@@ -15,17 +16,15 @@ using Catch::Matchers::Contains;
 
 namespace {
 
-/// A YAML file in a fresh temporary folder, removed with the object.
+/// A YAML file in a fresh temporary folder, removed with the object. The folder is mkdtemp's, not
+/// named from the text: two processes (ctest -j, or two checkouts) writing the same case would
+/// otherwise share it and remove it under each other.
 struct TempYaml {
+  grainscale::testing::TempDir tmp;
   std::filesystem::path dir, path;
-  TempYaml(const std::string& name, const std::string& text) {
-    dir = std::filesystem::temp_directory_path() /
-          ("grainscale_test_" + std::to_string(std::hash<std::string>{}(name + text)));
-    std::filesystem::create_directories(dir);
-    path = dir / name;
+  TempYaml(const std::string& name, const std::string& text) : dir(tmp.path), path(tmp.path / name) {
     std::ofstream(path) << text;
   }
-  ~TempYaml() { std::filesystem::remove_all(dir); }
 };
 
 const std::string kGoodMaterials = R"(materials:

@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <filesystem>
 #include <fstream>
 #include <memory>
 #include <random>
@@ -15,16 +14,13 @@
 #include "dem/walls/box.hpp"
 #include "dem/walls/mesh.hpp"
 #include "dem/walls/plane.hpp"
+#include "tests/temp_dir.hpp"
 
 using namespace grainscale::dem;
 using Catch::Matchers::Contains;
 using Catch::Matchers::WithinAbs;
 
 namespace {
-
-std::string temp_path(const std::string& name) {
-  return (std::filesystem::temp_directory_path() / ("grainscale_test_" + name)).string();
-}
 
 /// A floor [-0.1, 0.1]^2 at z = 0 cut into an irregular grid of triangles (diagonals alternate),
 /// so that a rolling sphere crosses many shared edges and vertices.
@@ -207,15 +203,16 @@ TEST_CASE("Cells that hold the same triangles share one stored list", "[dem][mes
 }
 
 TEST_CASE("STL files: binary and ASCII read back what was written; bad files are clear errors", "[dem][mesh][input]") {
+  const grainscale::testing::TempDir tmp;  // a fresh folder: a parallel ctest cannot race on the files
   const TriangleMesh box = box_mesh({0, 0, 0}, {0.8, 0.2, 0.2}, {true, true, true, true, true, false}, 2);
-  const std::string bin = temp_path("box.stl");
+  const std::string bin = tmp / "box.stl";
   write_stl(box, bin);
   const TriangleMesh back = load_stl(bin);
   CHECK(back.triangles.size() == box.triangles.size());
   CHECK(back.vertices.size() == box.vertices.size());  // corners welded again
   CHECK(MeshGeometry(back).patches() == 6);            // 5 sides + the divider
 
-  const std::string ascii = temp_path("tri.stl");
+  const std::string ascii = tmp / "tri.stl";
   std::ofstream(ascii) << "solid t\n facet normal 0 0 1\n  outer loop\n   vertex 0 0 0\n   vertex 10 0 0\n"
                           "   vertex 0 10 0\n  endloop\n endfacet\nendsolid t\n";
   const TriangleMesh tri = load_stl(ascii, 0.001);  // mm -> m
@@ -223,7 +220,7 @@ TEST_CASE("STL files: binary and ASCII read back what was written; bad files are
   CHECK_THAT(tri.vertices[1].x, WithinAbs(0.01, 1e-15));
 
   auto fails = [&](const std::string& text, const std::string& message) {
-    const std::string p = temp_path("bad.stl");
+    const std::string p = tmp / "bad.stl";
     std::ofstream(p, std::ios::binary) << text;
     REQUIRE_THROWS_WITH(load_stl(p), Contains(message));
   };

@@ -4,7 +4,6 @@
 
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
 #include <fstream>
 #include <memory>
 #include <numbers>
@@ -14,6 +13,7 @@
 #include "dem/motion/sinusoidal_motion.hpp"
 #include "dem/motion/steady_motion.hpp"
 #include "dem/motion/tabulated_motion.hpp"
+#include "tests/temp_dir.hpp"
 
 using namespace grainscale::dem;
 using Catch::Matchers::WithinAbs;
@@ -41,15 +41,18 @@ std::shared_ptr<MotionProfile> ship() {
   return std::make_shared<SinusoidalMotion>(d);
 }
 
-std::string write_file(const std::string& name, const std::string& text) {
-  const auto path = std::filesystem::temp_directory_path() / ("grainscale_test_" + name);
+std::string write_file(const grainscale::testing::TempDir& dir, const std::string& name, const std::string& text) {
+  const std::string path = dir / name;
   std::ofstream(path) << text;
-  return path.string();
+  return path;
 }
 
 /// A record sampled from ship() every 0.05 s over 60 s.
 std::shared_ptr<MotionProfile> recorded_ship() {
-  static const std::string path = [] {
+  // load() reads the whole record, so the file need not outlive this call; a fresh folder each
+  // time keeps parallel ctest processes from racing on it.
+  const grainscale::testing::TempDir tmp;
+  const std::string path = [&] {
     const auto s = ship();
     std::string csv = "# sampled from a sinusoidal ship motion\nt_s,roll_deg,pitch_deg,yaw_deg,surge_m,sway_m,heave_m\n";
     for (int k = 0; k <= 1200; ++k) {
@@ -62,7 +65,7 @@ std::shared_ptr<MotionProfile> recorded_ship() {
                     0.5 * std::sin(w / 9 * t), 0.3 * std::sin(w / 11 * t + 0.7), 1.5 * std::sin(w / 8 * t + 2.0));
       csv += line;
     }
-    return write_file("ship.csv", csv);
+    return write_file(tmp, "ship.csv", csv);
   }();
   return std::make_shared<TabulatedMotion>(TabulatedMotion::load(path));
 }
@@ -141,8 +144,9 @@ TEST_CASE("A recorded motion is interpolated smoothly: a finely sampled sinusoid
 
 TEST_CASE("Bad motion records name the file, the line and the column", "[dem][motion][input]") {
   const std::string header = "t_s,roll_deg,pitch_deg,yaw_deg,surge_m,sway_m,heave_m\n";
+  const grainscale::testing::TempDir tmp;
   auto fails_with = [&](const std::string& text, const std::string& message) {
-    const std::string path = write_file("bad_motion.csv", text);
+    const std::string path = write_file(tmp, "bad_motion.csv", text);
     REQUIRE_THROWS_WITH(TabulatedMotion::load(path), Contains(message));
   };
   fails_with("time,roll\n0,1\n", "header must be exactly");

@@ -3,7 +3,6 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
-#include <filesystem>
 #include <fstream>
 #include <memory>
 #include <numbers>
@@ -14,6 +13,7 @@
 #include "dem/motion/tabulated_motion.hpp"
 #include "dem/simulation.hpp"
 #include "dem/walls/mesh.hpp"
+#include "tests/temp_dir.hpp"
 
 using namespace grainscale::dem;
 using Catch::Matchers::WithinAbs;
@@ -97,7 +97,8 @@ TEST_CASE("Tilt table: a clump on a slowly tilting floor starts to slide within 
   const double onset = std::atan(mu) * 180 / std::numbers::pi;
   // A flat block of four spheres, resting on a tilting square floor; the tilt ramps at 1 deg/s
   // from 4 degrees below the friction angle (a recorded motion of two rows: linear in time).
-  const std::string csv = (std::filesystem::temp_directory_path() / "grainscale_test_tilt.csv").string();
+  const grainscale::testing::TempDir tmp;  // a fresh folder: a parallel ctest cannot race on the file
+  const std::string csv = tmp / "tilt.csv";
   {
     std::ofstream f(csv);
     f << "t_s,roll_deg,pitch_deg,yaw_deg,surge_m,sway_m,heave_m\n0,0," << onset - 4 << ",0,0,0,0\n10,0," << onset + 6

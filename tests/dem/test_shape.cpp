@@ -1,11 +1,11 @@
 // The shape library: every shipped shape loads, is one rigid piece, and its bounding box matches the
 // measured size within 3 %; bad shape files are clear errors.
 #include <catch2/catch.hpp>
-#include <filesystem>
 #include <fstream>
 
 #include "dem/input_error.hpp"
 #include "dem/shape.hpp"
+#include "tests/temp_dir.hpp"
 
 using namespace grainscale;
 using namespace grainscale::dem;
@@ -37,15 +37,13 @@ TEST_CASE("The wheat clump's volume is close to the spheroid it approximates", "
   CHECK(v > 0.85 * spheroid);
 }
 
-namespace {
-std::string write_tmp(const std::string& text) {
-  const auto p = std::filesystem::temp_directory_path() / "grainscale_shape_test.yaml";
-  std::ofstream(p) << text;
-  return p.string();
-}
-}  // namespace
-
 TEST_CASE("Bad shape files are rejected with the key and the reason", "[dem][shape]") {
+  const grainscale::testing::TempDir tmp;  // a fresh folder: a parallel ctest cannot race on the file
+  auto write_tmp = [&](const std::string& text) {
+    const std::string p = tmp / "shape.yaml";
+    std::ofstream(p) << text;
+    return p;
+  };
   CHECK_THROWS_WITH(load_shape(write_tmp("name: x\nspheres:\n  - {center: [0, 0, 0], radius: 1}\n"
                                          "  - {center: [5, 0, 0], radius: 1}\n")),
                     Contains("one rigid piece"));

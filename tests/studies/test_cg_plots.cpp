@@ -1,8 +1,6 @@
 // Figures of a cg output folder: they show the right snapshots (the first with chaff, the last),
 // the report's measured coverage, and c(x, z) of the last frame; missing or empty files are
 // skipped with a reason, never thrown; redrawing gives the same bytes.
-#include <unistd.h>
-
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -12,6 +10,7 @@
 
 #include "dem/input_error.hpp"
 #include "studies/cg_plots.hpp"
+#include "tests/temp_dir.hpp"
 
 using namespace grainscale;
 using namespace grainscale::studies;
@@ -120,9 +119,9 @@ TEST_CASE("Concentration map shows the last frame, averaged over y", "[studies][
 }
 
 TEST_CASE("write_cg_plots writes four PNGs, the same bytes twice, and skips what is missing", "[studies][cg_plots]") {
-  const fs::path dir = fs::temp_directory_path() / ("grainscale_test_cg_plots_" + std::to_string(getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  // A fresh folder (mkdtemp), removed at the end even when a check fails.
+  const grainscale::testing::TempDir tmp("test_cg_plots");
+  const fs::path& dir = tmp.path;
   write(dir / "slices.csv", kSlices);
   write(dir / "coverage.csv", kCoverage);
   write(dir / "congregation.csv", kCongregation);
@@ -153,5 +152,4 @@ TEST_CASE("write_cg_plots writes four PNGs, the same bytes twice, and skips what
   CHECK(partial.skipped[0].find("no finite value") != std::string::npos);
   CHECK(partial.skipped[1].find("fields.csv") != std::string::npos);
   CHECK(log2.str().find("no plot concentration.png") != std::string::npos);
-  fs::remove_all(dir);
 }

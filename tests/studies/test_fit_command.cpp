@@ -6,8 +6,6 @@
 #include <gsl/gsl_rng.h>
 #include <yaml-cpp/yaml.h>
 
-#include <unistd.h>
-
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <filesystem>
@@ -22,6 +20,7 @@
 #include "studies/fit_command.hpp"
 #include "studies/fit_observations.hpp"
 #include "studies/observed_fit.hpp"
+#include "tests/temp_dir.hpp"
 
 using namespace grainscale;
 using namespace grainscale::studies;
@@ -61,14 +60,8 @@ std::string read(const fs::path& p) {
   return s.str();
 }
 
-/// A fresh folder with model.yaml (an nx x nz grid) in it.
-fs::path scratch(const std::string& name, int nx = 16, int nz = 8) {
-  const fs::path dir = fs::temp_directory_path() / ("grainscale_test_fit_" + name + "_" + std::to_string(getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  write(dir / "model.yaml", model_yaml(nx, nz));
-  return dir;
-}
+/// model.yaml (an nx x nz grid) in `dir`.
+void write_model(const fs::path& dir, int nx = 16, int nz = 8) { write(dir / "model.yaml", model_yaml(nx, nz)); }
 
 struct Truth {
   continuum::ContinuumSettings settings;
@@ -92,8 +85,9 @@ Truth simulate_truth(const fs::path& dir, std::vector<double> times) {
 
 TEST_CASE("Fit data go to their nearest cell and combine by inverse variance", "[studies][fit]") {
   const continuum::Grid g(0.4, 4, 2, {0.1, 0.1, 0.1, 0.2, 0.2});  // column 2 is 0.15 deep, column 3 0.2
-  const fs::path dir = fs::temp_directory_path() / ("grainscale_test_fit_map_" + std::to_string(getpid()));
-  fs::create_directories(dir);
+  // A fresh folder (mkdtemp), removed at the end even when a check fails.
+  const grainscale::testing::TempDir tmp("test_fit_map");
+  const fs::path& dir = tmp.path;
   write(dir / "f.csv",
         "t_s,x_m,z_m,c,sigma,extra\n"
         "10,0.05,0.01,0.2,0.1,7\n"   // column 0, layer 0
@@ -165,11 +159,12 @@ TEST_CASE("Fit data go to their nearest cell and combine by inverse variance", "
   files.min_solid_fraction = 0.3;
   files.fields = (dir / "ok.csv").string();  // no phi column
   CHECK_THROWS_WITH(map_observations(files, g, 0.0), Catch::Contains("ok.csv") && Catch::Contains("'phi' column"));
-  fs::remove_all(dir);
 }
 
 TEST_CASE("grainscale fit recovers S, C, D0 and kappa from sparse, noisy synthetic data", "[studies][fit]") {
-  const fs::path dir = scratch("recovery");
+  const grainscale::testing::TempDir tmp("test_fit_recovery");
+  const fs::path& dir = tmp.path;
+  write_model(dir);
   const Truth truth = simulate_truth(dir, {25, 50, 100, 200, 400});
   const continuum::Grid& g = truth.model->grid();
   continuum::SurfaceCoverage camera(kKappa, 0.01);
@@ -242,11 +237,12 @@ TEST_CASE("grainscale fit recovers S, C, D0 and kappa from sparse, noisy synthet
     INFO(png);
     CHECK(read(dir / "out" / png).substr(0, 8) == std::string("\x89PNG\r\n\x1a\n", 8));
   }
-  fs::remove_all(dir);
 }
 
 TEST_CASE("On complete data with one sigma the fit agrees with continuum::fit", "[studies][fit]") {
-  const fs::path dir = scratch("agree", 12, 6);
+  const grainscale::testing::TempDir tmp("test_fit_agree");
+  const fs::path& dir = tmp.path;
+  write_model(dir, 12, 6);
   const Truth truth = simulate_truth(dir, {50, 200});
   continuum::SurfaceCoverage camera(kKappa, 0.01);
   continuum::FitData data;
@@ -290,12 +286,13 @@ TEST_CASE("On complete data with one sigma the fit agrees with continuum::fit", 
     CHECK(rb.values[j] == Approx(ra.values[j]).epsilon(1e-6));
     CHECK(rb.standard_errors[j] == Approx(ra.standard_errors[j]).epsilon(1e-4));
   }
-  fs::remove_all(dir);
 }
 
 TEST_CASE("A parameter the data cannot see is flagged, not reported as fitted", "[studies][fit]") {
   // Fields 0.1 s after the start: background diffusion (D0 = 2e-6 m^2/s) has moved nothing yet.
-  const fs::path dir = scratch("unseen", 12, 6);
+  const grainscale::testing::TempDir tmp("test_fit_unseen");
+  const fs::path& dir = tmp.path;
+  write_model(dir, 12, 6);
   const Truth truth = simulate_truth(dir, {0.1});
   const continuum::Grid& g = truth.model->grid();
   std::ostringstream fields;
@@ -311,11 +308,12 @@ TEST_CASE("A parameter the data cannot see is flagged, not reported as fitted", 
   CHECK(sum.warnings[0].find("constrain") != std::string::npos);
   CHECK(read(dir / "out" / "report.md").find("Do not use these values") != std::string::npos);
   CHECK(YAML::LoadFile((dir / "out" / "fit.yaml").string())["warnings"].size() == sum.warnings.size());
-  fs::remove_all(dir);
 }
 
 TEST_CASE("Bad fit settings and data are input errors naming what is wrong", "[studies][fit]") {
-  const fs::path dir = scratch("bad", 12, 6);
+  const grainscale::testing::TempDir tmp("test_fit_bad");
+  const fs::path& dir = tmp.path;
+  write_model(dir, 12, 6);
   write(dir / "fields.csv", "t_s,x_m,z_m,c\n100,0.1,0.02,0.2\n100,0.2,0.05,0.1\n100,0.3,0.05,0.1\n");
   write(dir / "coverage.csv", "t_s,x_m,coverage,sigma\n100,0.1,0.3,0.01\n");
   auto settings = [&](const std::string& data, const std::string& fit, const std::string& extra = "") {
@@ -365,5 +363,4 @@ TEST_CASE("Bad fit settings and data are input errors naming what is wrong", "[s
   // Fewer observations than parameters.
   CHECK_THROWS_WITH(run("{coverage: coverage.csv}", "{parameters: [S, kappa]}"), Catch::Contains("1 observations for 2"));
   CHECK_THROWS_AS(fit_command({}, ""), InputError);
-  fs::remove_all(dir);
 }

@@ -5,7 +5,6 @@
 // residuals land in their parts. Bad settings are InputErrors naming file and key.
 #include <gsl/gsl_randist.h>
 #include <gsl/gsl_rng.h>
-#include <unistd.h>
 #include <yaml-cpp/yaml.h>
 
 #include <catch2/catch.hpp>
@@ -26,6 +25,7 @@
 #include "studies/loop_diagnosis.hpp"
 #include "studies/loop_motion.hpp"
 #include "studies/observed_fit.hpp"
+#include "tests/temp_dir.hpp"
 
 using namespace grainscale;
 using namespace grainscale::studies;
@@ -34,13 +34,6 @@ namespace fs = std::filesystem;
 namespace {
 
 void write(const fs::path& p, const std::string& text) { std::ofstream(p) << text; }
-
-fs::path scratch(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("grainscale_test_loop_" + name + "_" + std::to_string(getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
 
 /// A 0.4 m bed, 0.08 m deep, with a convection cell of stream-function amplitude `amplitude` (m²/s);
 /// `extra` adds terms (the hidden truth). The default cell (4e-4: turnover about 25 s) keeps the bed
@@ -118,13 +111,11 @@ const std::vector<double> kTimes{50, 100, 150, 200, 250, 300};
 const std::string kSwing = "omega2: 1.84, alpha2: 18.2, axis_x: -0.8, axis_z: 0, rate: 3.14, mu: 0.53";
 
 /// A 10 x nz bed whose data (sigma 0.01) hide lever_arm with the swing and `hidden` ("S: ..."), and
-/// loop settings trying `candidates` (the lever arm's entry gets the swing plus `lever_extra`).
-fs::path swing_case(const std::string& name, int nz, const std::string& hidden, const std::string& lever_extra,
-                    const std::string& other_candidates) {
-  const fs::path dir = scratch(name);
+/// loop settings trying `candidates` (the lever arm's entry gets the swing plus `lever_extra`), in `dir`.
+void swing_case(const fs::path& dir, int nz, const std::string& hidden, const std::string& lever_extra,
+                const std::string& other_candidates) {
   write_data(dir, model_yaml(10, nz, "  lever_arm: {" + hidden + ", " + kSwing + "}\n"), kTimes, 0.01, 7);
   write_settings(dir, 10, nz, 0.01, "candidates: {lever_arm: {" + kSwing + lever_extra + "}" + other_candidates + "}\n");
-  return dir;
 }
 /// Top-view photographs every 10 s: a camera above the bed records coverage continuously, while
 /// fields (DEM snapshots, or sections) come at a few times.
@@ -218,7 +209,9 @@ TEST_CASE("The diagnosis splits symmetric and antisymmetric and harmonic and sur
 }
 
 TEST_CASE("grainscale loop finds a hidden surface drift and adds it and cuts the held-out error", "[studies][loop]") {
-  const fs::path dir = scratch("drift");
+  // A fresh folder (mkdtemp), removed at the end even when a check fails.
+  const grainscale::testing::TempDir tmp("test_loop_drift");
+  const fs::path& dir = tmp.path;
   const double sigma = 0.01;
   write_data(dir, model_yaml(10, 5, "  surface_drift: {U: 8.0e-4, thickness: 0.01}\n"), kTimes, sigma, 7);
   write_settings(dir, 10, 5, sigma);
@@ -266,14 +259,15 @@ TEST_CASE("grainscale loop finds a hidden surface drift and adds it and cuts the
   CHECK(rows == r.data.fields.size() + r.data.coverage.size());
   CHECK(std::sqrt(before2 / rows) == Approx(r.base.rms).epsilon(1e-6));
   CHECK(std::sqrt(after2 / rows) == Approx(e.rms).epsilon(1e-6));
-  fs::remove_all(dir);
 }
 
 TEST_CASE("grainscale loop names a hidden off-axis swing and cuts the held-out error", "[studies][loop][lever_arm]") {
   // The swing of studies/loop_lever_arm/off_axis.yaml (±35°, 0.5 Hz, the bed 0.8–1.2 m from the axis)
   // hidden at a third of the strength the DEM gave (S_l = 1.5e-3 m, docs/loop.md): the Euler term's one-sided
   // lean carries chaff to the far end. Against the two drifts that also move chaff to an end wall.
-  const fs::path dir = swing_case("swing", 5, "S: 5.0e-4", "", ", surface_drift: {}, wall_mobility: {}");
+  const grainscale::testing::TempDir tmp("test_loop_swing");
+  const fs::path& dir = tmp.path;
+  swing_case(dir, 5, "S: 5.0e-4", "", ", surface_drift: {}, wall_mobility: {}");
   const LoopResult r = run_loop(load_loop_settings((dir / "loop.yaml").string()));
   REQUIRE(r.chosen >= 0);
   const Evaluation& e = r.candidates[r.chosen];
@@ -283,14 +277,15 @@ TEST_CASE("grainscale loop names a hidden off-axis swing and cuts the held-out e
   const double S = e.values.back(), se = e.standard_errors.back();
   INFO("S_l = " << S << " +- " << se);
   CHECK(std::abs(S - 5e-4) < 3 * se);
-  fs::remove_all(dir);
 }
 
 TEST_CASE("A candidate's fit list chooses which of its parameters the loop fits", "[studies][loop][lever_arm]") {
   // The swing's lean hidden in the top 30 mm of the 80 mm bed only (L2); the loop told to fit the
   // layer's depth too finds both, and the default (S alone) is unchanged. On 8 mm cells: a layer
   // inside the top cell would show only S δ (the flux through that cell's faces), not each.
-  const fs::path dir = swing_case("fit_list", 10, "S: 1.5e-3, layer: 0.03", ", fit: [S, layer]", "");
+  const grainscale::testing::TempDir tmp("test_loop_fit_list");
+  const fs::path& dir = tmp.path;
+  swing_case(dir, 10, "S: 1.5e-3, layer: 0.03", ", fit: [S, layer]", "");
   const LoopSettings s = load_loop_settings((dir / "loop.yaml").string());
   REQUIRE(s.candidates.size() == 1);
   CHECK(s.candidates[0].fitted == std::vector<std::string>{"lever_arm.S", "lever_arm.layer"});
@@ -305,13 +300,13 @@ TEST_CASE("A candidate's fit list chooses which of its parameters the loop fits"
   CHECK(std::abs(e.values[n - 1] - 0.03) < 3 * e.standard_errors[n - 1]);
   write_settings(dir, 10, 10, 0.01, "candidates: {lever_arm: {" + kSwing + "}}\n");
   CHECK(load_loop_settings((dir / "loop.yaml").string()).candidates[0].fitted == std::vector<std::string>{"lever_arm.S"});
-  fs::remove_all(dir);
 }
 
 TEST_CASE("A fitted strength far outside its prior range is reported, not hidden", "[studies][loop]") {
   // The same bed with the drift hidden at 5e-3 m/s, five times its prior's top (the off-axis DEM
   // of docs/loop.md gave 4.7e-3): found and added as before, with a warning that asks why.
-  const fs::path dir = scratch("strong");
+  const grainscale::testing::TempDir tmp("test_loop_strong");
+  const fs::path& dir = tmp.path;
   const double sigma = 0.01;
   write_data(dir, model_yaml(10, 5, "  surface_drift: {U: 5.0e-3, thickness: 0.01}\n"), kTimes, sigma, 7);
   write_settings(dir, 10, 5, sigma, "candidates: [surface_drift, wall_mobility]\n");
@@ -323,11 +318,11 @@ TEST_CASE("A fitted strength far outside its prior range is reported, not hidden
   bool warned = false;
   for (const std::string& w : e.warnings) warned = warned || (w.find("surface_drift.U") != std::string::npos && w.find("above its prior range") != std::string::npos);
   CHECK(warned);
-  fs::remove_all(dir);
 }
 
 TEST_CASE("grainscale loop adds nothing when the data hold no hidden effect", "[studies][loop]") {
-  const fs::path dir = scratch("none");
+  const grainscale::testing::TempDir tmp("test_loop_none");
+  const fs::path& dir = tmp.path;
   const double sigma = 0.01;
   write_data(dir, model_yaml(10, 5), kTimes, sigma, 11);
   write_settings(dir, 10, 5, sigma, "candidates: [surface_drift, wall_mobility, pause_creep]\n");
@@ -335,7 +330,6 @@ TEST_CASE("grainscale loop adds nothing when the data hold no hidden effect", "[
   INFO(r.reason);
   CHECK(r.chosen < 0);
   CHECK(r.diagnosis_before.white);
-  fs::remove_all(dir);
 }
 
 TEST_CASE("The visible depth is told from kappa only on a grid finer than it over a surface layer", "[studies][loop]") {
@@ -348,7 +342,8 @@ TEST_CASE("The visible depth is told from kappa only on a grid finer than it ove
     y.replace(y.find("delta: 0.01"), 11, "delta: " + std::to_string(delta));
     return y;
   };
-  const fs::path dir = scratch("delta");
+  const grainscale::testing::TempDir tmp("test_loop_delta");
+  const fs::path& dir = tmp.path;
   struct Case {
     int nz;
     double delta;
@@ -392,11 +387,11 @@ TEST_CASE("The visible depth is told from kappa only on a grid finer than it ove
   // Cells of 8 mm, delta 20 mm over the surface layer: delta measured to better than 10 %.
   CHECK(cases[1].coverage_change > 0.01);
   CHECK(cases[1].se_over_delta < 0.1);
-  fs::remove_all(dir);
 }
 
 TEST_CASE("Bad loop settings are input errors naming the file and key", "[studies][loop]") {
-  const fs::path dir = scratch("bad");
+  const grainscale::testing::TempDir tmp("test_loop_bad");
+  const fs::path& dir = tmp.path;
   write_data(dir, model_yaml(6, 3), {100, 200}, 0.01, 3);
   write_settings(dir, 6, 3, 0.01);
   auto fails_with = [&](const std::string& loop_yaml, const std::string& needle) {
@@ -430,7 +425,6 @@ TEST_CASE("Bad loop settings are input errors naming the file and key", "[studie
   // A bad data file surfaces as the fit's input error (file and line).
   write(dir / "coverage.csv", "t_s,x_m,coverage\n100,0.1,abc\n");
   CHECK_THROWS_AS(run_loop(load_loop_settings((dir / "loop.yaml").string())), InputError);
-  fs::remove_all(dir);
 }
 
 namespace {
@@ -492,7 +486,8 @@ TEST_CASE("Each hidden library effect is found in 9 of 10 noisy replicates and n
     int found = 0, covered = 0;
     double sum_v = 0, sum_se = 0, cv0 = 0, cv1 = 0, sum_z = 0, sum_z2 = 0;
     for (int rep = 0; rep < 10; ++rep) {
-      const fs::path dir = scratch("validate_" + h.candidate + std::to_string(rep));
+      const grainscale::testing::TempDir tmp("test_loop_validate_" + h.candidate + std::to_string(rep));
+      const fs::path& dir = tmp.path;
       std::string truth = model_yaml(10, 10, h.truth_terms, kSurfaceLayerCell);
       if (h.delta != 0.01) truth.replace(truth.find("delta: 0.01"), 11, "delta: " + std::to_string(h.delta));  // the camera sees deeper
       write_data(dir, truth, kTimes, 0.01, 1000 + 17 * rep, kPhotographTimes);
@@ -521,7 +516,6 @@ TEST_CASE("Each hidden library effect is found in 9 of 10 noisy replicates and n
       std::cout << " (first by CV: " << r.candidates.front().name << " " << r.candidates.front().cv_error << "; base "
                 << r.base.cv_error << ")\n";
       if (chosen != h.candidate) std::cout << "  " << r.reason << "\n";
-      fs::remove_all(dir);
     }
     table << "| " << h.candidate << " | " << found << " | " << (h.candidate == "none" ? "-" : std::to_string(covered)) << " | "
           << (found && h.candidate != "none" ? std::to_string(sum_v / found) + " +- " + std::to_string(sum_se / found) : "-")
@@ -572,10 +566,10 @@ TEST_CASE("Each lever-arm DEM pair differs only in where the axis is", "[studies
 }
 
 TEST_CASE("A fields file that is not a grainscale cg HDF5 file is an input error", "[studies][loop]") {
-  const fs::path dir = scratch("h5");
+  const grainscale::testing::TempDir tmp("test_loop_h5");
+  const fs::path& dir = tmp.path;
   write(dir / "fields.h5", "not hdf5");
   CHECK_THROWS_WITH(cg_fields_to_csv((dir / "fields.h5").string(), (dir / "out.csv").string()),
                     Catch::Contains("cannot open as HDF5"));
-  fs::remove_all(dir);
 }
 

@@ -1,7 +1,5 @@
 // Plots: data land on the pixels the geometry says, figures are byte-identical when redrawn, and
 // bad data (NaN, nothing finite, mismatched lengths) is skipped or refused with a clear message.
-#include <unistd.h>
-
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -10,6 +8,7 @@
 #include <string>
 
 #include "studies/plot.hpp"
+#include "tests/temp_dir.hpp"
 
 using namespace grainscale::studies;
 
@@ -156,10 +155,10 @@ TEST_CASE("Figures redraw byte for byte", "[studies][plot]") {
   h.map = ColourMap::diverging;
   CHECK(draw(h).encode_png() == draw(h).encode_png());
 
-  const std::string path = (std::filesystem::temp_directory_path() / ("grainscale_test_plot_" + std::to_string(getpid()) + ".png")).string();
+  const grainscale::testing::TempDir tmp("test_plot");  // removed at the end, whatever the checks say
+  const std::string path = tmp / "plot.png";
   draw(p).write_png(path);
   CHECK(std::filesystem::file_size(path) == draw(p).encode_png().size());
-  std::filesystem::remove(path);
 }
 
 TEST_CASE("NaN points are skipped; nothing to plot is an error that names the figure", "[studies][plot]") {
