@@ -19,6 +19,7 @@
 #include "continuum/run_continuum.hpp"
 #include "dem/checkpoint.hpp"
 #include "dem/dem_run.hpp"
+#include "dem/force_field.hpp"
 #include "dem/input_error.hpp"
 #include "dem/scenario.hpp"
 #include "dem/shape.hpp"
@@ -54,12 +55,17 @@ commands:
         checkpoint.h5 there is updated every output.checkpoint_interval s of wall clock
         and at the end, and --resume continues a stopped run from it, bit for bit
   bench SCENARIO.yaml [--steps N] [--threads LIST] [--settled CHECKPOINT.h5] [--from CHECKPOINT.h5] [--warmup W]
+        [--large-bed-from S]
         settle the scenario to its end time, then time N further steps (default
         20000) from the same settled state on each thread count in LIST (default
         1,2), after W untimed ones (default 200); prints sphere-steps per second and
         the speed-up. --settled FILE keeps the settled state as a checkpoint: read if
         it exists, written otherwise. --from FILE settles on from that state (a
-        checkpoint of the same bed at an earlier time) instead of from the insertion
+        checkpoint of the same bed at an earlier time) instead of from the insertion.
+        --large-bed-from S: the force loop takes its path for beds beyond the caches
+        (prefetches, entries in chunks, the completion front) from S spheres on
+        (default 50000; 0: every bed), to measure what that path costs or gains
+        (docs/performance.md); the same numbers either way
   cg SETTINGS.yaml [--out DIR] [--threads N]
         coarse-grain DEM snapshots into fields in the container frame (HDF5 + XDMF,
         CSV) and the report's measures: chaff per 50 mm slice, top-view coverage,
@@ -123,6 +129,7 @@ struct Args {
   double density = 0, mass = 0;
   long steps = 20000;
   long warmup = 200;  // bench: untimed steps before the timed ones
+  long large_bed_from = -1;  // bench: dem::beyond_cache_spheres() for the timed steps (-1: as it is)
   bool resume = false;
   std::string settled;  // bench: checkpoint of the settled state (read if present, else written)
   std::string from;     // bench: a state to settle from instead of the scenario's insertion
@@ -157,6 +164,9 @@ Args parse(int argc, char** argv, int first) {
     } else if (s == "--warmup") {
       a.warmup = studies::whole_number_option("--warmup", value("--warmup"));
       if (a.warmup < 0) throw InputError("--warmup must be 0 or more");
+    } else if (s == "--large-bed-from") {
+      a.large_bed_from = studies::whole_number_option("--large-bed-from", value("--large-bed-from"));
+      if (a.large_bed_from < 0) throw InputError("--large-bed-from must be 0 or more (spheres)");
     } else if (s.rfind("--", 0) == 0) throw InputError("unknown option " + s + " (see grainscale --help)");
     else a.positional.push_back(s);
   }
@@ -224,7 +234,10 @@ int run_bench(const Args& a) {
   // resident growth below is what the copied simulation holds. The timed steps allocate nothing.
   mallopt(M_MMAP_THRESHOLD, 1 << 16);
   mallopt(M_TRIM_THRESHOLD, 1 << 16);
-  if (a.positional.size() != 1) throw InputError("usage: grainscale bench SCENARIO.yaml [--steps N] [--threads LIST] [--settled CHECKPOINT.h5] [--from CHECKPOINT.h5] [--warmup W]");
+  if (a.positional.size() != 1) {
+    throw InputError("usage: grainscale bench SCENARIO.yaml [--steps N] [--threads LIST] [--settled CHECKPOINT.h5] "
+                     "[--from CHECKPOINT.h5] [--warmup W] [--large-bed-from S]");
+  }
   if (!a.from.empty() && !std::filesystem::is_regular_file(a.from)) {
     throw InputError("--from: " + a.from + " is not a file (a checkpoint written by `grainscale bench --settled` or `grainscale dem`)");
   }
@@ -271,6 +284,12 @@ int run_bench(const Args& a) {
     if (const char* spin = std::getenv("GOMP_SPINCOUNT")) waiting += (waiting.empty() ? "" : ", ") + std::string("GOMP_SPINCOUNT=") + spin;
     std::printf("OpenMP waiting: %s\n", waiting.empty() ? "libgomp default" : waiting.c_str());
   }
+  // The force loop's path for beds beyond the caches (dem/force_field.hpp), set for the timed steps
+  // only: the settling above is the same either way, bit for bit.
+  if (a.large_bed_from >= 0) dem::beyond_cache_spheres() = static_cast<std::size_t>(a.large_bed_from);
+  std::printf("force loop: %s (from %zu spheres on)\n",
+              sim->particles().size() >= dem::beyond_cache_spheres() ? "the large-bed path" : "the in-cache path",
+              dem::beyond_cache_spheres());
   double base = 0;  // the first thread count's rate, once timed
   for (int threads : thread_list(a.threads, {1, 2})) {
     omp_set_num_threads(threads);

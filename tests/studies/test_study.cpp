@@ -176,6 +176,8 @@ TEST_CASE("grainscale names a bad number in an option (--steps, --warmup, --thre
                        Case{"bench unused.yaml --warmup many", "--warmup: 'many' is not a whole number"},
                        Case{"bench unused.yaml --steps 0", "--steps must be at least 1"},
                        Case{"bench unused.yaml --steps 10x", "--steps: '10x' is not a whole number"},
+                       Case{"bench unused.yaml --large-bed-from -1", "--large-bed-from must be 0 or more"},
+                       Case{"bench unused.yaml --large-bed-from 5e4", "--large-bed-from: '5e4' is not a whole number"},
                        Case{"dem unused.yaml --threads 1,2x", "--threads: '2x' is not a whole number"},
                        Case{"dem unused.yaml --threads 0", "--threads: counts must be in [1, 1024]"},
                        Case{"study unused.yaml --threads 2x", "--threads: '2x' is not a whole number"},
@@ -192,6 +194,38 @@ TEST_CASE("grainscale names a bad number in an option (--steps, --warmup, --thre
     CHECK(pclose(p) != 0);
     CHECK(out.find(c.message) != std::string::npos);
   }
+}
+
+TEST_CASE("grainscale bench --large-bed-from 0 times the force loop's large-bed path, with the same numbers",
+          "[study][cli][bench]") {
+  // The reduced study's bed (a few thousand spheres) takes the in-cache path by default; from 0
+  // spheres on it takes the path for beds beyond the caches, which must end in the same state.
+  const TempDir dir("bench_path");
+  write_reduced_study(dir);
+  std::string scenario = testing::slurp(dir / "scenario.yaml");
+  const std::string end = "time: {end: 0.5,";
+  REQUIRE(scenario.find(end) != std::string::npos);
+  scenario.replace(scenario.find(end), end.size(), "time: {end: 0.05,");
+  testing::write_text(dir / "short.yaml", scenario);
+  auto bench = [&](const std::string& extra) {
+    const std::string cmd = std::string(GRAINSCALE_BINARY) + " bench " + dir / "short.yaml --settled " +
+                            dir / "settled.h5 --steps 30 --warmup 0 --threads 1,2" + extra + " 2>&1";
+    FILE* p = popen(cmd.c_str(), "r");
+    REQUIRE(p != nullptr);
+    std::string out;
+    char buf[512];
+    while (std::fgets(buf, sizeof buf, p)) out += buf;
+    INFO(cmd << "\n" << out);
+    REQUIRE(pclose(p) == 0);
+    const std::size_t at = out.rfind("fingerprint ");
+    REQUIRE(at != std::string::npos);
+    return std::make_pair(out, out.substr(at + 12, 16));
+  };
+  const auto [plain_log, plain] = bench("");
+  CHECK(plain_log.find("force loop: the in-cache path (from 50000 spheres on)") != std::string::npos);
+  const auto [large_log, large] = bench(" --large-bed-from 0");
+  CHECK(large_log.find("force loop: the large-bed path (from 0 spheres on)") != std::string::npos);
+  CHECK(large == plain);
 }
 
 TEST_CASE("grainscale bench --from settles on from an earlier state of the bed, bit for bit as settling straight through",
