@@ -27,6 +27,22 @@ namespace {
 
 const std::string kStudies = std::string(GRAINSCALE_SOURCE_DIR) + "/studies";
 
+/// `grainscale bench ARGS`, which must succeed: its output, and the fingerprint of the last state it
+/// timed (one per thread count; a run ends in the same state on any).
+std::pair<std::string, std::string> run_bench(const std::string& args) {
+  const std::string cmd = std::string(GRAINSCALE_BINARY) + " bench " + args + " 2>&1";
+  FILE* p = popen(cmd.c_str(), "r");
+  REQUIRE(p != nullptr);
+  std::string out;
+  char buf[512];
+  while (std::fgets(buf, sizeof buf, p)) out += buf;
+  INFO(cmd << "\n" << out);
+  REQUIRE(pclose(p) == 0);
+  const std::size_t at = out.rfind("fingerprint ");
+  REQUIRE(at != std::string::npos);
+  return {out, out.substr(at + 12, 16)};
+}
+
 /// The default study's stage files, shrunk: 25 clumps and 20 flakes in the same box, a fast
 /// half-second tilt, a one-minute prediction.
 void write_reduced_study(const TempDir& dir, const std::string& study_extra = "") {
@@ -208,18 +224,7 @@ TEST_CASE("grainscale bench --large-bed-from 0 times the force loop's large-bed 
   scenario.replace(scenario.find(end), end.size(), "time: {end: 0.05,");
   testing::write_text(dir / "short.yaml", scenario);
   auto bench = [&](const std::string& extra) {
-    const std::string cmd = std::string(GRAINSCALE_BINARY) + " bench " + dir / "short.yaml --settled " +
-                            dir / "settled.h5 --steps 30 --warmup 0 --threads 1,2" + extra + " 2>&1";
-    FILE* p = popen(cmd.c_str(), "r");
-    REQUIRE(p != nullptr);
-    std::string out;
-    char buf[512];
-    while (std::fgets(buf, sizeof buf, p)) out += buf;
-    INFO(cmd << "\n" << out);
-    REQUIRE(pclose(p) == 0);
-    const std::size_t at = out.rfind("fingerprint ");
-    REQUIRE(at != std::string::npos);
-    return std::make_pair(out, out.substr(at + 12, 16));
+    return run_bench(dir / "short.yaml --settled " + dir / "settled.h5 --steps 30 --warmup 0 --threads 1,2" + extra);
   };
   const auto [plain_log, plain] = bench("");
   CHECK(plain_log.find("force loop: the in-cache path (from 50000 spheres on)") != std::string::npos);
@@ -245,19 +250,7 @@ TEST_CASE("grainscale bench --from settles on from an earlier state of the bed, 
   };
   with_end("early.yaml", "0.12");
   with_end("later.yaml", "0.2");
-  auto bench = [&](const std::string& args) {
-    const std::string cmd = std::string(GRAINSCALE_BINARY) + " bench " + args + " --steps 20 --warmup 0 --threads 1 2>&1";
-    FILE* p = popen(cmd.c_str(), "r");
-    REQUIRE(p != nullptr);
-    std::string out;
-    char buf[512];
-    while (std::fgets(buf, sizeof buf, p)) out += buf;
-    INFO(cmd << "\n" << out);
-    REQUIRE(pclose(p) == 0);
-    const std::size_t at = out.find("fingerprint ");
-    REQUIRE(at != std::string::npos);
-    return std::make_pair(out, out.substr(at + 12, 16));
-  };
+  auto bench = [&](const std::string& args) { return run_bench(args + " --steps 20 --warmup 0 --threads 1"); };
   bench(dir / "early.yaml --settled " + dir / "early.h5");
   const auto [continued_log, continued] = bench(dir / "later.yaml --from " + dir / "early.h5 --settled " + dir / "later.h5");
   CHECK(continued_log.find("starting from") != std::string::npos);
