@@ -72,6 +72,9 @@ function(grainscale_sanitized_copy target)
 endfunction()
 
 set(corpus_root ${CMAKE_CURRENT_LIST_DIR}/corpus)
+# Every replay stops at its first sanitizer report.
+set(replay_environment
+    "ASAN_OPTIONS=detect_leaks=1:abort_on_error=0:halt_on_error=1;UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1;OMP_WAIT_POLICY=passive")
 foreach(entry ${GRAINSCALE_FUZZ_TARGETS})
   string(REPLACE ":" ";" entry "${entry}")
   list(GET entry 0 name)
@@ -82,13 +85,11 @@ foreach(entry ${GRAINSCALE_FUZZ_TARGETS})
   target_compile_options(replay_${name} PRIVATE ${GRAINSCALE_SANITIZER_FLAGS} -O0 -UNDEBUG)
   target_compile_definitions(replay_${name} PRIVATE GRAINSCALE_FUZZ_CORPUS="${corpus_root}")
   add_test(NAME sanitized_corpus_${name} COMMAND replay_${name} ${corpus_root}/${name})
-  set_tests_properties(sanitized_corpus_${name} PROPERTIES LABELS sanitizer ENVIRONMENT
-    "ASAN_OPTIONS=detect_leaks=1:abort_on_error=0:halt_on_error=1;UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1;OMP_WAIT_POLICY=passive")
+  set_tests_properties(sanitized_corpus_${name} PROPERTIES LABELS sanitizer ENVIRONMENT "${replay_environment}")
 endforeach()
 
 # The replays remove their work folders (tests/fuzz/check_work_dir_removed.cmake).
 add_test(NAME sanitized_corpus_work_dir_removed
          COMMAND ${CMAKE_COMMAND} -DREPLAY=$<TARGET_FILE:replay_materials> -DCORPUS=${corpus_root}/materials
                  -DTMP=${CMAKE_CURRENT_BINARY_DIR}/work_dir_removed_tmp -P ${CMAKE_CURRENT_LIST_DIR}/check_work_dir_removed.cmake)
-set_tests_properties(sanitized_corpus_work_dir_removed PROPERTIES LABELS sanitizer ENVIRONMENT
-  "ASAN_OPTIONS=detect_leaks=1:abort_on_error=0:halt_on_error=1;UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1;OMP_WAIT_POLICY=passive")
+set_tests_properties(sanitized_corpus_work_dir_removed PROPERTIES LABELS sanitizer ENVIRONMENT "${replay_environment}")
