@@ -16,6 +16,7 @@
 #include "studies/hold_study_report.hpp"
 #include "studies/study_kinds.hpp"
 #include "tests/studies/synthetic_cg_fields.hpp"
+#include "tests/command_output.hpp"
 #include "tests/input_error_check.hpp"
 #include "tests/temp_dir.hpp"
 
@@ -222,12 +223,9 @@ TEST_CASE("grainscale study reaches the hold runner through the kind key", "[stu
   CHECK(studies::study_kind_of(dir / "study.yaml").run == &studies::hold_study_runner);
   // The binary: an empty scenario list is the hold reader's error (exit status 2 for input errors).
   write_text(dir / "empty.yaml", "kind: hold\nname: empty\nscenarios: []\noutput: {directory: out}\n");
-  FILE* p = popen((std::string(GRAINSCALE_BINARY) + " study " + (dir / "empty.yaml") + " 2>&1").c_str(), "r");
-  REQUIRE(p != nullptr);
-  std::string text;
-  char buf[512];
-  while (std::fgets(buf, sizeof buf, p)) text += buf;
-  const int status = pclose(p);
+  const testing::CommandResult r = testing::run_command(std::string(GRAINSCALE_BINARY) + " study " + (dir / "empty.yaml") + " 2>&1");
+  const std::string& text = r.output;
+  const int status = r.status;
   INFO(text);
   CHECK(WEXITSTATUS(status) == 2);
   CHECK(text.find("empty.yaml") != std::string::npos);

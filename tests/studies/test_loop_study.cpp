@@ -10,6 +10,7 @@
 #include "dem/input_error.hpp"
 #include "studies/loop_study.hpp"
 #include "studies/study_kinds.hpp"
+#include "tests/command_output.hpp"
 #include "tests/input_error_check.hpp"
 #include "tests/temp_dir.hpp"
 
@@ -98,12 +99,9 @@ TEST_CASE("grainscale study reaches the loop runner through the kind key", "[stu
   write_reduced(dir);
   CHECK(studies::study_kind_of(dir / "study.yaml").run == &studies::loop_study_runner);
   write_reduced(dir, "candidate_iterations: 0\n");
-  FILE* p = popen((std::string(GRAINSCALE_BINARY) + " study " + (dir / "study.yaml") + " 2>&1").c_str(), "r");
-  REQUIRE(p != nullptr);
-  std::string text;
-  char buf[512];
-  while (std::fgets(buf, sizeof buf, p)) text += buf;
-  const int status = pclose(p);
+  const testing::CommandResult r = testing::run_command(std::string(GRAINSCALE_BINARY) + " study " + (dir / "study.yaml") + " 2>&1");
+  const std::string& text = r.output;
+  const int status = r.status;
   INFO(text);
   CHECK(WEXITSTATUS(status) == 2);
   CHECK(text.find("study.yaml") != std::string::npos);

@@ -12,6 +12,7 @@
 #include "studies/fit_command.hpp"
 #include "studies/study_kinds.hpp"
 #include "studies/study_run.hpp"
+#include "tests/command_output.hpp"
 #include "tests/input_error_check.hpp"
 #include "tests/temp_dir.hpp"
 
@@ -31,16 +32,12 @@ const std::string kStudies = std::string(GRAINSCALE_SOURCE_DIR) + "/studies";
 /// timed (one per thread count; a run ends in the same state on any).
 std::pair<std::string, std::string> run_bench(const std::string& args) {
   const std::string cmd = std::string(GRAINSCALE_BINARY) + " bench " + args + " 2>&1";
-  FILE* p = popen(cmd.c_str(), "r");
-  REQUIRE(p != nullptr);
-  std::string out;
-  char buf[512];
-  while (std::fgets(buf, sizeof buf, p)) out += buf;
-  INFO(cmd << "\n" << out);
-  REQUIRE(pclose(p) == 0);
-  const std::size_t at = out.rfind("fingerprint ");
+  const testing::CommandResult r = testing::run_command(cmd);
+  INFO(cmd << "\n" << r.output);
+  REQUIRE(r.status == 0);
+  const std::size_t at = r.output.rfind("fingerprint ");
   REQUIRE(at != std::string::npos);
-  return {out, out.substr(at + 12, 16)};
+  return {r.output, r.output.substr(at + 12, 16)};
 }
 
 /// The default study's stage files, shrunk: 25 clumps and 20 flakes in the same box, a fast
@@ -172,12 +169,9 @@ TEST_CASE("A study file's kind picks its runner; an unknown kind names the file,
 TEST_CASE("grainscale COMMAND --help prints that command's usage", "[study][cli]") {
   for (const std::string cmd : {"study", "dem", "cg", "fit", "predict", "loop", "calibrate", "hold"}) {
     INFO(cmd);
-    FILE* p = popen((std::string(GRAINSCALE_BINARY) + " " + cmd + " --help").c_str(), "r");
-    REQUIRE(p != nullptr);
-    std::string out;
-    char buf[512];
-    while (std::fgets(buf, sizeof buf, p)) out += buf;
-    CHECK(pclose(p) == 0);
+    const testing::CommandResult r = testing::run_command(std::string(GRAINSCALE_BINARY) + " " + cmd + " --help");
+    const std::string& out = r.output;
+    CHECK(r.status == 0);
     CHECK(out.rfind("usage: grainscale " + cmd + " ", 0) == 0);
     CHECK(out.find("(all commands: grainscale --help)") != std::string::npos);
   }
@@ -201,14 +195,10 @@ TEST_CASE("grainscale names a bad number in an option (--steps, --warmup, --thre
                        Case{"shape unused.yaml --density 1000kg", "--density: '1000kg' is not a number"},
                        Case{"shape unused.yaml --mass -1", "--mass must be positive"}}) {
     INFO(c.args);
-    FILE* p = popen((std::string(GRAINSCALE_BINARY) + " " + c.args + " 2>&1").c_str(), "r");
-    REQUIRE(p != nullptr);
-    std::string out;
-    char buf[512];
-    while (std::fgets(buf, sizeof buf, p)) out += buf;
-    INFO(out);
-    CHECK(pclose(p) != 0);
-    CHECK(out.find(c.message) != std::string::npos);
+    const testing::CommandResult r = testing::run_command(std::string(GRAINSCALE_BINARY) + " " + c.args + " 2>&1");
+    INFO(r.output);
+    CHECK(r.status != 0);
+    CHECK(r.output.find(c.message) != std::string::npos);
   }
 }
 
@@ -262,11 +252,8 @@ TEST_CASE("grainscale bench --from settles on from an earlier state of the bed, 
   CHECK(again == continued);
   CHECK(again_log.find("not used") != std::string::npos);
   const std::string missing = dir / "missing.h5";
-  FILE* p = popen((std::string(GRAINSCALE_BINARY) + " bench " + dir / "later.yaml --from " + missing + " 2>&1").c_str(), "r");
-  REQUIRE(p != nullptr);
-  std::string out;
-  char buf[512];
-  while (std::fgets(buf, sizeof buf, p)) out += buf;
-  CHECK(pclose(p) != 0);
-  CHECK(out.find("--from: " + missing + " is not a file") != std::string::npos);
+  const testing::CommandResult r =
+      testing::run_command(std::string(GRAINSCALE_BINARY) + " bench " + dir / "later.yaml --from " + missing + " 2>&1");
+  CHECK(r.status != 0);
+  CHECK(r.output.find("--from: " + missing + " is not a file") != std::string::npos);
 }
