@@ -87,6 +87,10 @@ static double measure(int K, int D, int kind, double* gbs) {
 static void row(int K, int D, int kind) {
   double gbs = 0;
   const double ns = measure(K, D, kind, &gbs);
+  if (ns < 0) {
+    fprintf(stderr, "prefetch_streams: could not allocate %d arrays of %zu MB\n", K, kTotalBytes / (size_t)K / 1000000);
+    exit(1);
+  }
   printf("%3d arrays  %2d blocks ahead  %-4s  %6.2f GB/s  %5.2f ns a line\n", K, D, D > 0 ? kKinds[kind] : "none",
          gbs, ns);
   fflush(stdout);
@@ -95,12 +99,12 @@ static void row(int K, int D, int kind) {
 int main(int argc, char** argv) {
   if (argc > 1) {
     const int K = atoi(argv[1]), D = argc > 2 ? atoi(argv[2]) : 8;
-    int kind = 1;
+    int kind = argc > 3 ? -1 : 1;
     if (argc > 3)
       for (int k = 0; k < 4; ++k)
         if (strcmp(argv[3], kKinds[k]) == 0) kind = k;
-    if (K < 1 || K > 64 || D < 0) {
-      fprintf(stderr, "prefetch_streams: K must be 1..64 and D >= 0\n");
+    if (K < 1 || K > 64 || D < 0 || kind < 0) {
+      fprintf(stderr, "prefetch_streams: K must be 1..64, D >= 0 and KIND one of t0, t1, t2, nta\n");
       return 2;
     }
     row(K, D, kind);
