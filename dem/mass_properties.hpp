@@ -8,7 +8,7 @@
 // (its error comes from the silhouette edges). Measured on two unequal overlapping spheres: relative
 // volume error 5.6e-4 at n = 32 and 2.5e-4 at n = 64; at the default n = 256 analytic volumes and
 // inertias are matched to 1e-4 (tests/dem/test_mass_properties.cpp).
-#include <Eigen/Dense>
+#include "dem/eigen_dense.hpp"
 #include <vector>
 
 #include "dem/quaternion.hpp"

@@ -4,7 +4,7 @@
 
 #include <omp.h>
 
-#include <Eigen/Dense>
+#include "dem/eigen_dense.hpp"
 #include <algorithm>
 #include <cmath>
 #include <sstream>

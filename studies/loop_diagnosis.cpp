@@ -2,7 +2,7 @@
 
 #include <gsl/gsl_cdf.h>
 
-#include <Eigen/Dense>
+#include "dem/eigen_dense.hpp"
 #include <algorithm>
 #include <cmath>
 #include <map>

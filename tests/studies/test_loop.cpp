@@ -15,6 +15,7 @@
 #include <fstream>
 #include <iostream>
 #include <sstream>
+#include <utility>
 
 #include "continuum/settings.hpp"
 #include "continuum/simulate.hpp"
@@ -430,12 +431,18 @@ TEST_CASE("Bad loop settings are input errors naming the file and key", "[studie
 namespace {
 
 struct Hidden {
+  // (A constructor, not an aggregate: rows that leave out the last two fields would each draw
+  // -Wmissing-field-initializers.)
+  Hidden(std::string candidate, std::string truth_terms, double delta, double strength, std::string candidates = "",
+         int iterations = 20)
+      : candidate(std::move(candidate)), truth_terms(std::move(truth_terms)), delta(delta), strength(strength),
+        candidates(std::move(candidates)), iterations(iterations) {}
   std::string candidate;    // what the loop should name
   std::string truth_terms;  // added to the truth's terms ("" for none)
-  double delta = 0.01;      // the truth's visible depth (the model assumes 0.01)
-  double strength = 0;      // the true value of the candidate's fitted parameter
+  double delta;             // the truth's visible depth (the model assumes 0.01)
+  double strength;          // the true value of the candidate's fitted parameter
   std::string candidates;   // the loop's candidate settings ("": the shared ones below)
-  int iterations = 20;      // LM iterations of each candidate's full-data fit
+  int iterations;           // LM iterations of each candidate's full-data fit
 };
 
 }  // namespace
