@@ -8,6 +8,8 @@
 // warning is off only for the lines of these headers (a diagnostic pragma applies by source
 // location), so it still reports grainscale's own code; the intrinsics headers are read here first
 // so that their lines fall inside the pragma, whichever file includes them later.
+// (GCC only: Clang has no such warning and would warn about the unknown name.)
+#if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #if defined(__x86_64__) || defined(__i386__)
@@ -15,3 +17,6 @@
 #endif
 #include <Eigen/Dense>
 #pragma GCC diagnostic pop
+#else
+#include <Eigen/Dense>
+#endif
