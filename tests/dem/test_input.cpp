@@ -1,7 +1,6 @@
 // Bad input gets a clear error naming the file, the key and the allowed range; the shipped inputs load.
 #include <catch2/catch.hpp>
 #include <filesystem>
-#include <fstream>
 #include <string>
 
 #include "dem/input_error.hpp"
@@ -21,9 +20,9 @@ namespace {
 /// otherwise share it and remove it under each other.
 struct TempYaml {
   grainscale::testing::TempDir tmp;
-  std::filesystem::path dir, path;
-  TempYaml(const std::string& name, const std::string& text) : dir(tmp.path), path(tmp.path / name) {
-    std::ofstream(path) << text;
+  std::filesystem::path path;
+  TempYaml(const std::string& name, const std::string& text) : path(tmp.path / name) {
+    grainscale::testing::write_text(path.string(), text);
   }
 };
 
@@ -98,7 +97,7 @@ struct ScenarioFiles {
   TempYaml materials, scenario;
   ScenarioFiles(const std::string& text)
       : materials("materials.yaml", kGoodMaterials), scenario("scenario.yaml", text) {
-    std::filesystem::copy_file(materials.path, scenario.dir / "materials.yaml",
+    std::filesystem::copy_file(materials.path, scenario.tmp.path / "materials.yaml",
                                std::filesystem::copy_options::overwrite_existing);
   }
 };

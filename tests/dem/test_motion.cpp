@@ -4,7 +4,6 @@
 
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <memory>
 #include <numbers>
 
@@ -43,7 +42,7 @@ std::shared_ptr<MotionProfile> ship() {
 
 std::string write_file(const grainscale::testing::TempDir& dir, const std::string& name, const std::string& text) {
   const std::string path = dir / name;
-  std::ofstream(path) << text;
+  grainscale::testing::write_text(path, text);
   return path;
 }
 

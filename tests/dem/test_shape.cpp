@@ -1,7 +1,6 @@
 // The shape library: every shipped shape loads, is one rigid piece, and its bounding box matches the
 // measured size within 3 %; bad shape files are clear errors.
 #include <catch2/catch.hpp>
-#include <fstream>
 
 #include "dem/input_error.hpp"
 #include "dem/shape.hpp"
@@ -41,7 +40,7 @@ TEST_CASE("Bad shape files are rejected with the key and the reason", "[dem][sha
   const grainscale::testing::TempDir tmp;  // a fresh folder: a parallel ctest cannot race on the file
   auto write_tmp = [&](const std::string& text) {
     const std::string p = tmp / "shape.yaml";
-    std::ofstream(p) << text;
+    grainscale::testing::write_text(p, text);
     return p;
   };
   CHECK_THROWS_WITH(load_shape(write_tmp("name: x\nspheres:\n  - {center: [0, 0, 0], radius: 1}\n"
