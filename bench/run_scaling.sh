@@ -20,6 +20,8 @@
 #                        single run per size reads as a growth with N (or hides one). The table gives
 #                        the median of the rounds and their spread; the verdict takes the largest /
 #                        smallest ratio within each round (sizes timed a minute apart) and its median
+#                        (threshold 1.25), then where the cost grows: the ratio from each size to the
+#                        next (and per decade), and the exponent p of cost per step ~ N^p over the range
 #   MEM_PER_SPHERE=6000  bytes per sphere assumed for the memory check (bench counts ~1500-2000 in its
 #                        arrays; peak RSS was 3.3 kB per sphere at N = 1e5, so 1e6 needs ~3.5 GB)
 #   IDLE_WAIT=600 IDLE_MAX=10   wait for an idle machine before each timed run (IDLE_WAIT=0: don't)
@@ -130,7 +132,7 @@ if [[ "$WITH_LIGGGHTS" != 0 ]]; then
 fi
 
 python3 - "$OUT" "${ran[@]}" <<'PY' | tee "$OUT/results.txt"
-import glob, re, sys
+import glob, math, re, sys
 out, sizes = sys.argv[1], [int(s) for s in sys.argv[2:]]
 
 def load(log):
@@ -147,6 +149,25 @@ def verdict(per_round):  # per_round: one list per round of (N, ns per sphere-st
             + " ".join(f"{x:.2f}" for x in ratios) + ") "
             f"-> {'linear (cost per sphere-step does not grow)' if ratio <= 1.25 else 'NOT linear: cost per sphere-step grows with N'}"
             " (threshold 1.25; a ratio below 1 means the small problems carry per-step overhead)")
+
+def median(xs):
+    xs = sorted(xs)
+    return xs[len(xs) // 2] if len(xs) % 2 else 0.5 * (xs[len(xs) // 2 - 1] + xs[len(xs) // 2])
+
+def growth(per_round):  # where the cost per sphere-step grows: from each size to the next, and as a power of N
+    sizes = [n for n, _ in per_round[0]]
+    if len(sizes) < 2:
+        return ""
+    steps = []
+    for i in range(len(sizes) - 1):
+        r = median([rnd[i + 1][1] / rnd[i][1] for rnd in per_round])
+        decades = math.log10(sizes[i + 1] / sizes[i])
+        steps.append(f"{sizes[i]} -> {sizes[i + 1]} {r:.2f} ({r ** (1 / decades):.2f} a decade)")
+    whole = median([rnd[-1][1] / rnd[0][1] for rnd in per_round])
+    p = 1 + math.log(whole) / math.log(sizes[-1] / sizes[0])
+    return ("where it grows (median of the rounds): " + "; ".join(steps)
+            + f". Cost per step ~ N^{p:.3f} from {sizes[0]} to {sizes[-1]} (1 is linear; a step where the bed leaves the"
+            " caches shows as one size pair's growth, the pairs beyond it flat)")
 
 runs = {}  # runs[threads][N] = one dict per round
 for n in sizes:
@@ -194,7 +215,9 @@ for th in sorted(rows):
     done = [n for n in sizes if n in runs[th]]
     rounds = min(len(runs[th][n]) for n in done)
     if len(done) > 1:
-        print(verdict([[(n, 1e9 / runs[th][n][k]["rate"]) for n in done] for k in range(rounds)]))
+        per_round = [[(n, 1e9 / runs[th][n][k]["rate"]) for n in done] for k in range(rounds)]
+        print(verdict(per_round))
+        print(growth(per_round))
 
 lig = {}
 for n in sizes:
@@ -226,6 +249,7 @@ if lig:
                   f"{r['ke']:9.2e} {r['rss'] / 2**20:12.0f} {r['other']:>10} {(g['rate'] / r['rate'] if g else float('nan')):22.2f}")
         if len(lig[np]) > 1:
             print(verdict([[(r["n"], 1e9 / r["rate"]) for r in lig[np]]]))
+            print(growth([[(r["n"], 1e9 / r["rate"]) for r in lig[np]]]))
 
 print("\n(contacts/sph: sphere-sphere contacts per sphere in the settled bed; the beds are comparable when it is")
 print(" about the same for every N. entries/sph: neighbour-list entries per sphere at the end (grainscale's adaptive")
