@@ -498,6 +498,8 @@ void write_state(ImageWriter& w, const Simulation& sim) {
   };
   stability("stability", sim.stability());
   stability("worst_stability", sim.worst_stability());
+  w.attribute<double>("/monitor", "lowest_dt", sim.lowest_dt());
+  w.attribute<std::uint64_t>("/monitor", "dt_changes", sim.dt_changes());
 }
 
 void write_scenario(ImageWriter& w, const BuiltScenario& run) {
@@ -689,6 +691,10 @@ Checkpoint read_checkpoint(const std::string& path) {
     };
     s.stability = stability("stability");
     s.worst_stability = stability("worst_stability");
+    if (r.has_attribute("/monitor", "lowest_dt")) {  // (since 2026-12-07: the step control's record)
+      s.lowest_dt = r.attribute<double>("/monitor", "lowest_dt");
+      s.dt_changes = r.attribute<std::uint64_t>("/monitor", "dt_changes");
+    }
 
     if (r.has("/scenario")) {
       c.has_scenario = true;

@@ -181,19 +181,28 @@ void DemRun::write_checkpoint_now() {
   r.wall_seconds = wall_seconds();
   r.warned_stability = warned_stability_;
   r.settled = settled_;
-  r.complete = settled_ || run_.sim->steps() >= static_cast<std::uint64_t>(std::ceil(scenario_.end_time / run_.sim->dt() - 1e-9));
+  r.complete = settled_ || steps_left(*run_.sim) == 0;
   const std::string path = checkpoint_path();
   write_checkpoint(path, run_, &r);
   checkpoint_time_ = run_.sim->time();
   if (on_checkpoint_) on_checkpoint_(path);
 }
 
-std::uint64_t DemRun::steps_to_next_check(const Simulation& sim, std::uint64_t total_steps) const {
+std::uint64_t DemRun::steps_left(const Simulation& sim) const {
+  if (sim.settings().step_control.mode == StepControl::Mode::fixed) {
+    const auto total = static_cast<std::uint64_t>(std::ceil(scenario_.end_time / sim.dt() - 1e-9));
+    return sim.steps() >= total ? 0 : total - sim.steps();
+  }
+  const double left = (scenario_.end_time - sim.time()) / sim.dt();
+  return left <= 0.5 ? 0 : static_cast<std::uint64_t>(std::llround(left));
+}
+
+std::uint64_t DemRun::steps_to_next_check(const Simulation& sim, std::uint64_t steps_left) const {
   // The loop's checks fall on multiples of kCheckEvery (progress, checkpoint), of kSettleEvery, of the
   // stability interval (the warning reads the last check), and at the step whose time reaches the
   // next snapshot's (within half a step): never step past one of them.
   const std::uint64_t s = sim.steps();
-  std::uint64_t go = std::min<std::uint64_t>(total_steps - s, kCheckEvery - s % kCheckEvery);
+  std::uint64_t go = std::min<std::uint64_t>(steps_left, kCheckEvery - s % kCheckEvery);
   if (scenario_.settle_kinetic_energy > 0) go = std::min<std::uint64_t>(go, kSettleEvery - s % kSettleEvery);
   if (const int every = sim.settings().stability_interval; every > 0) {
     go = std::min<std::uint64_t>(go, static_cast<std::uint64_t>(every) - s % static_cast<std::uint64_t>(every));
@@ -214,17 +223,25 @@ void DemRun::run() {
   }
   Progress progress(sim.time(), scenario_.end_time, scenario_.progress_interval, [this](const std::string& l) { log(l); });
   const double interval = scenario_.snapshot_interval;
-  const auto total_steps = static_cast<std::uint64_t>(std::ceil(scenario_.end_time / sim.dt() - 1e-9));
   auto last_checkpoint = std::chrono::steady_clock::now();
+  double lowest_logged = sim.lowest_dt();
   try {
-    while (sim.steps() < total_steps) {
+    for (std::uint64_t left = steps_left(sim); left > 0; left = steps_left(sim)) {
       if (sim.time() >= next_snapshot_ - 0.5 * sim.dt()) {
         write_snapshot_now();
         next_snapshot_ += interval;
       }
       // As many steps in one go as leave every check below where it was: each comes at the end of a
       // go (Simulation::run_steps keeps its threads in one parallel region for the steps of a go).
-      run_.advance(steps_to_next_check(sim, total_steps));
+      run_.advance(steps_to_next_check(sim, left));
+      if (sim.lowest_dt() < 0.8 * lowest_logged) {  // (the step control: each fall by a fifth, not every change)
+        lowest_logged = sim.lowest_dt();
+        std::ostringstream m;
+        m << "t = " << sim.time() << " s: the step control lowered the time step to " << sim.dt() << " s ("
+          << 100 * sim.dt() / sim.dt_ceiling() << " % of the input's " << sim.dt_ceiling() << " s), after a check that found "
+          << describe(sim.stability(), sim.bodies());
+        log(m.str());
+      }
       if (sim.steps() % kCheckEvery == 0) progress.update(sim.time(), sim.steps(), sim.particles().size());
       if (sim.stability().margin > 1 && !warned_stability_) {
         // Warn once: the run goes on (a transient squeeze may pass) but the user should know why it may
@@ -315,7 +332,17 @@ void DemRun::write_final_output() {
     << "wall_contacts: " << sim.diagnostics().wall_contacts << "\n"
     << "max_overlap_ratio: " << sim.diagnostics().max_overlap_ratio << "\n"
     << "max_contact_omega_dt: " << sim.diagnostics().max_omega_dt << "  # at the final step, body masses\n"
-    << "max_step_stability_margin: " << sim.worst_stability().margin << "  # worst body over the run; > 1 unstable\n"
+    << "max_step_stability_margin: " << sim.worst_stability().margin << "  # worst body over the run; > 1 unstable\n";
+  if (sim.settings().step_control.mode == StepControl::Mode::stability) {
+    y << "time_step_control: stability  # the step kept below a margin of " << sim.settings().step_control.target_margin
+      << "\n"
+      << "time_step_ceiling_s: " << sim.dt_ceiling() << "\n"
+      << "time_step_lowest_s: " << sim.lowest_dt() << "\n"
+      << "time_step_changes: " << sim.dt_changes() << "\n"
+      << "mean_time_step_s: " << (sim.steps() > 0 ? sim.time() / static_cast<double>(sim.steps()) : 0.0)
+      << "  # simulated time / steps, from t = 0\n";
+  }
+  y
     << "kinetic_energy_J: " << e.kinetic_translation + e.kinetic_rotation << "\n"
     << "snapshots: " << snapshots_.size() << "\n";
   write_file_atomically((fs::path(out_dir_) / "summary.yaml").string(), y.str());

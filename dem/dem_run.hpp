@@ -42,7 +42,10 @@ class DemRun {
 
  private:
   /// Steps the run loop may take in one go before its next check (at least 1).
-  std::uint64_t steps_to_next_check(const Simulation& sim, std::uint64_t total_steps) const;
+  std::uint64_t steps_to_next_check(const Simulation& sim, std::uint64_t steps_left) const;
+  /// Steps left to the end time: with a fixed step, to the step count end / dt; with the step
+  /// control (dem/step_control.hpp), at the present step, to within half a step of the end.
+  std::uint64_t steps_left(const Simulation& sim) const;
   void log(const std::string& line);
   void write_snapshot_now();
   void write_checkpoint_now();

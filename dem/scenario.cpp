@@ -150,6 +150,19 @@ Scenario load_scenario(const std::string& file) {
   s.pour_interval = t.number_or("pour_interval", 0.01, Range::positive());
   s.settle_kinetic_energy = t.number_or("settle_kinetic_energy", 0.0, Range::non_negative());
   s.settings.stability_interval = static_cast<int>(t.integer_or("stability_interval", 20, 0, 1000000));  // 0: never
+  // The step kept below a stability margin, the input's step its ceiling (dem/step_control.hpp).
+  StepControl& control = s.settings.step_control;
+  control.mode = t.choice_or("step_control", "fixed", {"fixed", "stability"}) == "stability" ? StepControl::Mode::stability
+                                                                                            : StepControl::Mode::fixed;
+  control.target_margin = t.number_or("step_margin", control.target_margin, {0, 1, true, true});
+  if (control.mode == StepControl::Mode::stability && s.settings.stability_interval == 0) {
+    throw InputError(t.where("step_control") +
+                     ": 'stability' needs the stability check, but time.stability_interval is 0; set it to 1 or more "
+                     "(default 20)");
+  }
+  if (control.mode == StepControl::Mode::fixed && t.has("step_margin")) {
+    throw InputError(t.where("step_margin") + ": only read with time.step_control: stability");
+  }
   t.finish();
 
   if (root.has("walls")) {
@@ -230,6 +243,10 @@ std::vector<std::string> scenario_fingerprint(const Scenario& s) {
   if (st.list_frame == SimulationSettings::ListFrameChoice::world) line("time.list_frame", "world");
   line("time.pour_interval", exact(s.pour_interval));
   line("time.stability_interval", std::to_string(st.stability_interval));
+  if (st.step_control.mode == StepControl::Mode::stability) {  // (only then: as list_frame above)
+    line("time.step_control", "stability");
+    line("time.step_margin", exact(st.step_control.target_margin));
+  }
   // Motions are compared through where they put the wall at these times (s): spread over the
   // scales of a shaking run, and not round numbers, so that phase shifts and delays show.
   static const double kSampleTimes[] = {0, 0.0123, 0.137, 0.71, 1.93, 4.37, 11.7, 63.1, 301.7, 1811.3, 86400.7};

@@ -56,10 +56,10 @@ std::uint64_t Simulation::add_body(double mass, const Vec3& inertia, const Vec3&
 void Simulation::check_step_for(int material, double radius) const {
   if (!ready_ || settings_.time_step > 0) return;
   const double needed = settings_.time_step_fraction * dem::rayleigh_time(radius, materials_[material]);
-  if (needed < dt_ * (1 - 1e-12)) {
+  if (needed < dt_ceiling_ * (1 - 1e-12)) {  // (the step control may raise the step back up to the ceiling)
     std::ostringstream m;
     m << "a " << materials_[material].name << " sphere of radius " << radius << " m added at t = " << time_
-      << " s needs a time step of " << needed << " s, smaller than the running " << dt_
+      << " s needs a time step of " << needed << " s, smaller than the running " << dt_ceiling_
       << " s; set time.step, or include the smallest particle before the first step";
     throw InputError(m.str());
   }
@@ -173,6 +173,22 @@ void Simulation::check_pairs_in_use(const Particles& p) const {
   }
 }
 
+namespace {
+
+void check_step_control(const SimulationSettings& s) {
+  if (s.step_control.mode == StepControl::Mode::fixed) return;
+  if (!(s.step_control.target_margin > 0 && s.step_control.target_margin < 1)) {
+    throw InputError("the step control's target margin must lie in (0, 1), not " +
+                     std::to_string(s.step_control.target_margin));
+  }
+  if (s.stability_interval <= 0) {
+    throw InputError("the step control needs the stability check: a stability interval of 1 step or more, not " +
+                     std::to_string(s.stability_interval));
+  }
+}
+
+}  // namespace
+
 void Simulation::setup() {
   check_pairs_in_use(particles_);
   if (settings_.time_step > 0) {
@@ -181,6 +197,10 @@ void Simulation::setup() {
     if (particles_.size() == 0) throw InputError("cannot choose a time step automatically without particles");
     dt_ = settings_.time_step_fraction * rayleigh_time();
   }
+  check_step_control(settings_);
+  dt_ceiling_ = dt_;
+  lowest_dt_ = dt_;
+  dt_changes_ = 0;
   forces_.setup(materials_, walls_, settings_.rolling);
   for (Wall& w : walls_) w.move_to(time_);
   move_spheres_with_bodies();
@@ -345,6 +365,13 @@ void Simulation::restore(SimulationState&& s) {
   shape_names_ = std::move(s.shape_names);
   time_ = s.time;
   dt_ = s.dt;
+  // A fixed step goes on as the state has it; a controlled one may rise back to the input's ceiling
+  // (as setup() chose it: the same particles, the same settings).
+  dt_ceiling_ = settings_.step_control.mode == StepControl::Mode::fixed ? dt_
+                : settings_.time_step > 0                               ? settings_.time_step
+                                                                        : settings_.time_step_fraction * rayleigh_time();
+  lowest_dt_ = s.lowest_dt > 0 ? s.lowest_dt : dt_;
+  dt_changes_ = s.dt_changes;
   skin_ = s.skin;
   steps_ = s.steps;
   next_sphere_id_ = s.next_sphere_id;
@@ -1121,7 +1148,7 @@ std::uint64_t Simulation::steps_in_region(std::uint64_t most) {
     return done + 1;
   }
   check_health();  // throws when the step has blown up
-  if (stability_due()) check_stability();
+  if (stability_due()) control_step(check_stability());
   return done;
 }
 
@@ -1154,7 +1181,17 @@ void Simulation::finish_step() {
     rebuild(*skins);  // (chosen once: own_skin_ is still theirs)
   }
   compute_forces(0.5 * dt_);  // and the bodies' sums with the second half kick; the health check
-  if (stability_due()) check_stability();
+  if (stability_due()) control_step(check_stability());
+}
+
+void Simulation::control_step(const StepStability& now) {
+  // Between steps, outside the threads' region: the next region's steps take the new dt_ (its
+  // second half kick too: BodySums is made per region).
+  const double next = settings_.step_control.next(dt_, dt_ceiling_, now.margin, settings_.stability_interval);
+  if (next == dt_) return;
+  dt_ = next;
+  ++dt_changes_;
+  lowest_dt_ = std::min(lowest_dt_, dt_);
 }
 
 const StepStability& Simulation::check_stability() {

@@ -26,6 +26,7 @@
 #include "dem/particles.hpp"
 #include "dem/rolling_model.hpp"
 #include "dem/shape.hpp"
+#include "dem/step_control.hpp"
 #include "dem/step_stability.hpp"
 #include "dem/team_signals.hpp"
 #include "dem/wall.hpp"
@@ -52,6 +53,7 @@ struct SimulationSettings {
   double scale_factor = 1;          // particle scale factor (metadata, written to every snapshot)
   std::string time_step_note;       // how a preset time_step was chosen, for the log (optional)
   int stability_interval = 20;      // steps between per-body step-stability checks (dem/step_stability.hpp)
+  StepControl step_control;          // fixed, or the step kept below a stability margin (dem/step_control.hpp)
 };
 
 /// Thrown when the state has become unphysical; the message is the diagnosis.
@@ -86,6 +88,8 @@ struct SimulationState {
   std::vector<WallSlot> wall_slots;       // those contacts, slot by slot (sum of wall_count)
   ForceDiagnostics diagnostics;           // of the last force computation
   StepStability stability, worst_stability;
+  double lowest_dt = 0;                   // the smallest step taken since setup (0: not recorded)
+  std::uint64_t dt_changes = 0;           // how often the step control changed the step
 };
 
 class Simulation {
@@ -111,6 +115,12 @@ class Simulation {
   double time() const { return time_; }
   std::uint64_t steps() const { return steps_; }
   double dt() const { return dt_; }
+  /// The step set in the input (time.step, or the fraction of the Rayleigh time): the step itself, or
+  /// with settings().step_control in stability mode the most the step may be (dem/step_control.hpp).
+  double dt_ceiling() const { return dt_ceiling_; }
+  /// The smallest step taken since setup, and how often the step control changed the step.
+  double lowest_dt() const { return lowest_dt_; }
+  std::uint64_t dt_changes() const { return dt_changes_; }
   /// Smallest Rayleigh time over the particles present.
   double rayleigh_time() const;
   /// One line on how dt was chosen, for the log.
@@ -199,6 +209,8 @@ class Simulation {
   /// After the drift, by one thread of a team of `team` (steps_in_region).
   bool drifted(int team);
   void finish_step();
+  /// After a scheduled stability check: the step control's next step (dem/step_control.hpp).
+  void control_step(const StepStability& now);
   bool healthy() const;
   bool stability_due() const;
   void update_sphere_state() const;
@@ -261,6 +273,8 @@ class Simulation {
   StepStabilityMonitor stability_monitor_;
   StepStability stability_, worst_stability_;
   double time_ = 0, dt_ = 0, skin_ = 0;
+  double dt_ceiling_ = 0, lowest_dt_ = 0;  // the input's step; the smallest taken (step control)
+  std::uint64_t dt_changes_ = 0;
   std::uint64_t steps_ = 0, next_sphere_id_ = 0;
   double moved2_ = 0;  // largest squared sphere displacement since the last neighbour build
   // Scratch of choose_skins and rebuild (per sphere): the skins chosen, their speeds squared, the

@@ -51,14 +51,17 @@ pairs:
   grain-wall:  {restitution: 0.2, friction: 0.4, rolling_friction: 0.05}
 )";
 
-/// The scenario text; `extra_output` goes into the output map (e.g. "checkpoint_interval: 1.0e-9").
-inline std::string checkpoint_scenario(double end_time, const std::string& extra_output = "") {
+/// The scenario text; `extra_output` goes into the output map (e.g. "checkpoint_interval: 1.0e-9"),
+/// `extra_time` into the time map (e.g. "step_control: stability").
+inline std::string checkpoint_scenario(double end_time, const std::string& extra_output = "",
+                                       const std::string& extra_time = "") {
   return std::string(R"(name: checkpoint_test
 seed: 11
 gravity: [0, 0, -150]
 materials: materials.yaml
 contact: {rolling: epsd}
-time: {end: )") + std::to_string(end_time) + R"(, pour_interval: 0.002}
+time: {end: )") + std::to_string(end_time) + ", pour_interval: 0.002" +
+         (extra_time.empty() ? "" : ", " + extra_time) + R"(}
 walls:
   - {name: box, type: box_mesh, min: [0, 0, 0], max: [0.04, 0.03, 0.06], open: [+z], material: wall,
      motion: {type: sinusoids, surge: {amplitude: 0.002, period: 0.04}}}
@@ -77,9 +80,10 @@ output: {directory: out, snapshot_interval: 0.01)" +
 /// The scenario (as `name`) and its materials in `dir`; returns the scenario's path.
 inline std::string write_checkpoint_scenario(const CheckpointTempDir& dir, double end_time,
                                              const std::string& extra_output = "",
-                                             const std::string& name = "scenario.yaml") {
+                                             const std::string& name = "scenario.yaml",
+                                             const std::string& extra_time = "") {
   std::ofstream(dir / "materials.yaml") << kCheckpointMaterials;
-  std::ofstream(dir / name) << checkpoint_scenario(end_time, extra_output);
+  std::ofstream(dir / name) << checkpoint_scenario(end_time, extra_output, extra_time);
   return dir / name;
 }
 

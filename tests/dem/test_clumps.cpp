@@ -5,6 +5,7 @@
 
 #include "parallel_everything.hpp"
 #include "pass_one_loop.hpp"
+#include "chaff_landing.hpp"
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -430,42 +431,8 @@ TEST_CASE("Stage 2 of the step-stability check: each suspect's contacts from its
   omp_set_num_threads(2);
 }
 
-namespace {
-
-struct Landing {
-  double flake_speed = 0;  // largest speed of the chaff flake, m/s
-  double overlap = 0;      // largest overlap / radius
-  StepStability worst;     // worst per-body step stability seen
-};
-
-/// The report's chaff (100 kg/m^3, G = 1 MPa) at 2x size is a 5.6 mg flake; a 0.4 g wheat grain
-/// lands on it at 2.4 m/s and squeezes it against the floor, nine contacts on one light body.
-Landing land_on_chaff(double fraction) {
-  const MaterialTable mt = MaterialTable::load(GRAINSCALE_SOURCE_DIR "/studies/materials/report_table1.yaml");
-  SimulationSettings st;
-  st.time_step_fraction = fraction;
-  st.max_overlap_ratio = 0.99;
-  st.stability_interval = 1;
-  Simulation sim(mt, st);
-  Shape wheat = load_shape(GRAINSCALE_SOURCE_DIR "/studies/shapes/wheat.yaml");
-  Shape chaff = load_shape(GRAINSCALE_SOURCE_DIR "/studies/shapes/chaff.yaml");
-  for (Shape* s : {&wheat, &chaff})
-    for (auto& c : s->spheres) c.center = 2.0 * c.center, c.radius *= 2;
-  sim.add_clump(chaff, mt.index("chaff"), 100, {0, 0, 0.0015});
-  sim.add_clump(wheat, mt.index("barley"), 1380, {0.001, 0.0005, 0.0065}, axis_angle({0, 0, 1}, 0.7), {0, 0, -2.4});
-  sim.add_wall("floor", std::make_shared<PlaneGeometry>(Vec3{0, 0, 0}, Vec3{0, 0, 1}), mt.index("perspex"));
-  sim.setup();
-  Landing r;
-  for (int s = 0; s < static_cast<int>(0.02 / sim.dt()) && r.flake_speed < 5; ++s) {
-    sim.step();
-    r.flake_speed = std::max(r.flake_speed, norm(sim.bodies().v[sim.bodies().index_of(0)]));
-    r.overlap = std::max(r.overlap, sim.diagnostics().max_overlap_ratio);
-  }
-  r.worst = sim.worst_stability();
-  return r;
-}
-
-}  // namespace
+using testing::land_on_chaff;
+using testing::Landing;
 
 TEST_CASE("A wheat grain landing on a chaff flake: converged at 10 % of the Rayleigh time", "[dem][clump]") {
   // At 10 % and 5 % of the Rayleigh time the results agree: the flake deforms by 41 % of its radius
