@@ -24,7 +24,7 @@
 // What the margin buys, on the chaff sandwich (tests/dem/chaff_landing.hpp: a grain squeezing a
 // flake against the floor; the flake's rebound speed against 0.684 m/s converged, at 5 % of the
 // Rayleigh time): a fixed step at 10 / 12 / 13 % (worst margin 0.56 / 0.67 / 0.73) is within 0.5 %;
-// at 15 / 17 % (0.84 / 0.96) 11 % / 9 % fast; at 20 % (1.19) the flake is shot out. The control from
+// at 15 / 17 % (0.84 / 0.96) 11 % / 9 % fast; at 20 % (1.12) the flake is shot out. The control from
 // 20 % with a target of 0.5 lands it within 0.1 % (checked every step) or 2.5 % (every 20 steps, the
 // default), with 0.7 within 9 % or 12 %: the squeeze comes within a few steps, faster than the
 // checks. So the target is a choice between accuracy in the worst squeezes and speed elsewhere;

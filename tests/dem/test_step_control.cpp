@@ -65,7 +65,7 @@ TEST_CASE("The step control lowers the step at once and raises it slowly, never 
 
 TEST_CASE("The step control lands the chaff sandwich from 20 % of the Rayleigh time, which a fixed 20 % shoots out",
           "[dem][step_control][clump][stability]") {
-  // With a fixed 20 % the flake is shot out (margin 1.19: test_clumps.cpp). The control lowers the
+  // With a fixed 20 % the flake is shot out (margin 1.12: test_clumps.cpp). The control lowers the
   // step while the grain squeezes the flake: with a target margin of 0.5 the landing is the converged
   // one (a fixed 5 %), with 0.7 (the default) it is as a fixed 15-17 % lands it (9-12 % fast,
   // dem/step_control.hpp), stable either way.
