@@ -155,6 +155,10 @@ std::string Simulation::time_step_report() const {
     << (!settings_.time_step_note.empty() ? settings_.time_step_note
                                           : (settings_.time_step > 0 ? "set in the input" : "automatic"))
     << ")";
+  if (settings_.step_control.mode == StepControl::Mode::stability) {
+    s << "; step control: kept below a stability margin of " << settings_.step_control.target_margin << ", at most "
+      << dt_ceiling_ << " s (dem/step_control.hpp)";
+  }
   return s.str();
 }
 
