@@ -155,13 +155,16 @@ Scenario load_scenario(const std::string& file) {
   control.mode = t.choice_or("step_control", "fixed", {"fixed", "stability"}) == "stability" ? StepControl::Mode::stability
                                                                                             : StepControl::Mode::fixed;
   control.target_margin = t.number_or("step_margin", control.target_margin, {0, 1, true, true});
+  control.pour_interval = static_cast<int>(t.integer_or("step_control_pour_interval", control.pour_interval, 1, 1000000));
   if (control.mode == StepControl::Mode::stability && s.settings.stability_interval == 0) {
     throw InputError(t.where("step_control") +
                      ": 'stability' needs the stability check, but time.stability_interval is 0; set it to 1 or more "
                      "(default 20)");
   }
-  if (control.mode == StepControl::Mode::fixed && t.has("step_margin")) {
-    throw InputError(t.where("step_margin") + ": only read with time.step_control: stability");
+  for (const char* key : {"step_margin", "step_control_pour_interval"}) {
+    if (control.mode == StepControl::Mode::fixed && t.has(key)) {
+      throw InputError(t.where(key) + ": only read with time.step_control: stability");
+    }
   }
   t.finish();
 
@@ -246,6 +249,7 @@ std::vector<std::string> scenario_fingerprint(const Scenario& s) {
   if (st.step_control.mode == StepControl::Mode::stability) {  // (only then: as list_frame above)
     line("time.step_control", "stability");
     line("time.step_margin", exact(st.step_control.target_margin));
+    line("time.step_control_pour_interval", std::to_string(st.step_control.pour_interval));
   }
   // Motions are compared through where they put the wall at these times (s): spread over the
   // scales of a shaking run, and not round numbers, so that phase shifts and delays show.
@@ -366,6 +370,14 @@ void BuiltScenario::advance(std::uint64_t steps) {
   }
   for (Pour& p : pours) p.update(*sim, rng);
   sim->step();
+  // The step control checks more often while particles land (StepControl::pour_interval); not on a
+  // step whose regular check has just run.
+  const StepControl& control = sim->settings().step_control;
+  const auto every = static_cast<std::uint64_t>(control.pour_interval);
+  if (control.mode == StepControl::Mode::stability && sim->steps() % every == 0 &&
+      sim->steps() % static_cast<std::uint64_t>(sim->settings().stability_interval) != 0) {
+    sim->check_and_control_step(control.pour_interval);
+  }
 }
 
 bool BuiltScenario::pouring() const {

@@ -189,6 +189,10 @@ void check_step_control(const SimulationSettings& s) {
     throw InputError("the step control needs the stability check: a stability interval of 1 step or more, not " +
                      std::to_string(s.stability_interval));
   }
+  if (s.step_control.pour_interval <= 0) {
+    throw InputError("the step control's interval while pouring must be 1 step or more, not " +
+                     std::to_string(s.step_control.pour_interval));
+  }
 }
 
 }  // namespace
@@ -1152,7 +1156,7 @@ std::uint64_t Simulation::steps_in_region(std::uint64_t most) {
     return done + 1;
   }
   check_health();  // throws when the step has blown up
-  if (stability_due()) control_step(check_stability());
+  if (stability_due()) control_step(check_stability(), settings_.stability_interval);
   return done;
 }
 
@@ -1185,13 +1189,15 @@ void Simulation::finish_step() {
     rebuild(*skins);  // (chosen once: own_skin_ is still theirs)
   }
   compute_forces(0.5 * dt_);  // and the bodies' sums with the second half kick; the health check
-  if (stability_due()) control_step(check_stability());
+  if (stability_due()) control_step(check_stability(), settings_.stability_interval);
 }
 
-void Simulation::control_step(const StepStability& now) {
+void Simulation::check_and_control_step(int interval) { control_step(check_stability(), interval); }
+
+void Simulation::control_step(const StepStability& now, int interval) {
   // Between steps, outside the threads' region: the next region's steps take the new dt_ (its
   // second half kick too: BodySums is made per region).
-  const double next = settings_.step_control.next(dt_, dt_ceiling_, now.margin, settings_.stability_interval);
+  const double next = settings_.step_control.next(dt_, dt_ceiling_, now.margin, interval);
   if (next == dt_) return;
   dt_ = next;
   ++dt_changes_;

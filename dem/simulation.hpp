@@ -154,6 +154,9 @@ class Simulation {
   const StepStabilityMonitor& stability_monitor() const { return stability_monitor_; }
   /// Check step stability now (also done every settings().stability_interval steps).
   const StepStability& check_stability();
+  /// Check step stability now and, with the step control, choose the next step from it (as every
+  /// settings().stability_interval steps), as if `interval` steps had passed since the last check.
+  void check_and_control_step(int interval);
 
   /// Put this simulation into a saved state: its materials and walls (same order) must be those of the
   /// simulation the state came from; everything else is replaced. The next step continues exactly as
@@ -209,8 +212,9 @@ class Simulation {
   /// After the drift, by one thread of a team of `team` (steps_in_region).
   bool drifted(int team);
   void finish_step();
-  /// After a scheduled stability check: the step control's next step (dem/step_control.hpp).
-  void control_step(const StepStability& now);
+  /// After a stability check: the step control's next step (dem/step_control.hpp), `interval`
+  /// steps after the one before.
+  void control_step(const StepStability& now, int interval);
   bool healthy() const;
   bool stability_due() const;
   void update_sphere_state() const;
