@@ -197,14 +197,16 @@ void check_step_control(const SimulationSettings& s) {
 
 }  // namespace
 
+double Simulation::input_time_step() const {
+  return settings_.time_step > 0 ? settings_.time_step : settings_.time_step_fraction * rayleigh_time();
+}
+
 void Simulation::setup() {
   check_pairs_in_use(particles_);
-  if (settings_.time_step > 0) {
-    dt_ = settings_.time_step;
-  } else {
-    if (particles_.size() == 0) throw InputError("cannot choose a time step automatically without particles");
-    dt_ = settings_.time_step_fraction * rayleigh_time();
+  if (!(settings_.time_step > 0) && particles_.size() == 0) {
+    throw InputError("cannot choose a time step automatically without particles");
   }
+  dt_ = input_time_step();
   check_step_control(settings_);
   dt_ceiling_ = dt_;
   lowest_dt_ = dt_;
@@ -375,9 +377,8 @@ void Simulation::restore(SimulationState&& s) {
   dt_ = s.dt;
   // A fixed step goes on as the state has it; a controlled one may rise back to the input's ceiling
   // (as setup() chose it: the same particles, the same settings).
-  dt_ceiling_ = settings_.step_control.mode == StepControl::Mode::fixed ? dt_
-                : settings_.time_step > 0                               ? settings_.time_step
-                                                                        : settings_.time_step_fraction * rayleigh_time();
+  // (A state without particles has no Rayleigh time: its own step is the ceiling.)
+  dt_ceiling_ = settings_.step_control.mode == StepControl::Mode::fixed || particles_.size() == 0 ? dt_ : input_time_step();
   lowest_dt_ = s.lowest_dt > 0 ? s.lowest_dt : dt_;
   dt_changes_ = s.dt_changes;
   skin_ = s.skin;

@@ -212,6 +212,8 @@ class Simulation {
   /// After the drift, by one thread of a team of `team` (steps_in_region).
   bool drifted(int team);
   void finish_step();
+  /// The step the input sets: time.step, or time.step_fraction of the smallest Rayleigh time.
+  double input_time_step() const;
   /// After a stability check: the step control's next step (dem/step_control.hpp), `interval`
   /// steps after the one before.
   void control_step(const StepStability& now, int interval);

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "checkpoint_fixture.hpp"
+#include "run_and_stop.hpp"
 #include "dem/checkpoint.hpp"
 #include "dem/dem_run.hpp"
 #include "dem/input_error.hpp"
@@ -24,6 +25,8 @@
 using namespace grainscale;
 using namespace grainscale::dem;
 using Catch::Matchers::Contains;
+using testing::run_to_end;
+using testing::run_until_checkpoint;
 namespace fs = std::filesystem;
 
 namespace {
@@ -31,27 +34,6 @@ namespace {
 // 0.03 s: about 1200 steps, snapshots at 0, 0.01, 0.02 and the end; a checkpoint every 64 steps.
 constexpr double kEnd = 0.03;
 const std::string kOften = "checkpoint_interval: 1.0e-9";
-
-/// Thrown from the checkpoint hook: ends the run as abruptly as a kill (nothing after it runs).
-struct Killed {};
-
-void run_to_end(const std::string& scenario, const std::string& out, bool resume = false) {
-  DemRun r(scenario, out, resume);
-  r.setup();
-  r.run();
-  r.output();
-}
-
-/// Run until the `n`th checkpoint has been written, then stop dead.
-void run_until_checkpoint(const std::string& scenario, const std::string& out, int n) {
-  DemRun r(scenario, out);
-  int written = 0;
-  r.on_checkpoint([&](const std::string&) {
-    if (++written == n) throw Killed{};
-  });
-  r.setup();
-  CHECK_THROWS_AS(r.run(), Killed);
-}
 
 std::vector<std::string> snapshot_names(const std::string& out) {
   std::vector<std::string> names;

@@ -11,6 +11,7 @@
 
 #include "chaff_landing.hpp"
 #include "checkpoint_fixture.hpp"
+#include "run_and_stop.hpp"
 #include "dem/checkpoint.hpp"
 #include "dem/dem_run.hpp"
 #include "dem/input_error.hpp"
@@ -21,6 +22,8 @@ using namespace grainscale;
 using namespace grainscale::dem;
 using Catch::Matchers::Contains;
 using Catch::Matchers::WithinRel;
+using testing::run_to_end;
+using testing::run_until_checkpoint;
 
 namespace {
 
@@ -93,13 +96,6 @@ namespace {
 constexpr double kEnd = 0.03;
 const std::string kControl = "step_fraction: 0.6, step_control: stability, step_margin: 0.3";
 
-void run_to_end(const std::string& scenario, const std::string& out, bool resume = false) {
-  DemRun r(scenario, out, resume);
-  r.setup();
-  r.run();
-  r.output();
-}
-
 }  // namespace
 
 TEST_CASE("A controlled run is the same bit for bit on 1, 2 and 3 threads and across a checkpoint",
@@ -133,16 +129,7 @@ TEST_CASE("A controlled run is the same bit for bit on 1, 2 and 3 threads and ac
   omp_set_num_threads(2);
 
   // Stopped dead after the 9th checkpoint (every 64 steps), resumed: the same last snapshot, bytes.
-  {
-    DemRun r(often, dir / "stopped");
-    int written = 0;
-    struct Killed {};
-    r.on_checkpoint([&](const std::string&) {
-      if (++written == 9) throw Killed{};
-    });
-    r.setup();
-    CHECK_THROWS_AS(r.run(), Killed);
-  }
+  run_until_checkpoint(often, dir / "stopped", 9);
   run_to_end(scenario, dir / "stopped", true);
   CHECK(testing::slurp_file(dir / "stopped/snapshots/snap_000003.h5") ==
         testing::slurp_file(dir / "two/snapshots/snap_000003.h5"));
