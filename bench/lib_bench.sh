@@ -3,6 +3,7 @@
 # Before sourcing, set BENCH_NAME (message prefix). Provides:
 #   HERE ROOT NCPU HZ; die say; need_grainscale (sets GS); need_liggghts (sets LIGGGHTS, MPIRUN);
 #   busy_jiffies other_cpu_percent wait_idle (IDLE_WAIT, IDLE_MAX); core_round_trip; run_logged LOG CMD...;
+#   machine_description (first lines of every results.txt);
 #   yaml_with FILE OUT KEY=VALUE... (a copy of a scenario with keys replaced, paths made absolute).
 
 HERE="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
@@ -140,6 +141,76 @@ other = max(0.0, ((b - a) / hz - own) / wall) if wall > 0 else 0.0
 open(log + ".load", "w").write(f"wall_s {wall:.2f} own_cpu_s {own:.2f} maxrss_kb {rss} other_cores {other:.2f} core_round_trip_ns {rt}\n")
 PY
   return $rc
+}
+
+# machine_description: the machine and the build the figures come from, first in every results.txt:
+# the CPU (model name, vendor, family / model / stepping), the CPUs, each cache level's size and how
+# many CPUs share it, the memory, whether it is a virtual machine, transparent huge pages, the kernel,
+# and the grainscale binary's `version` line (revision, compiler, instruction set, optimised or not).
+# The same code's figures differ by tens of per cent between machines (docs/performance.md), so a
+# figure is only comparable with one from the same machine.
+machine_description() {
+  python3 - "${GS:-}" <<'PY'
+import os, subprocess, sys
+gs = sys.argv[1]
+info = {}
+try:
+    for line in open("/proc/cpuinfo"):
+        k, _, v = line.partition(":")
+        k = k.strip()
+        if k and k not in info:
+            info[k] = v.strip()
+except OSError:
+    pass
+def size_text(s):  # sysfs writes "48K", "2048K", "491520K"
+    if s.endswith("K") and s[:-1].isdigit():
+        kib = int(s[:-1])
+        return f"{kib // 1024} MiB" if kib >= 1024 and kib % 1024 == 0 else f"{kib} KiB"
+    return s
+caches = []
+base = "/sys/devices/system/cpu/cpu0/cache"
+try:
+    for d in sorted(os.listdir(base)):
+        if not d.startswith("index"):
+            continue
+        r = lambda f: open(os.path.join(base, d, f)).read().strip()
+        try:
+            level, kind, size, shared = r("level"), r("type"), r("size"), r("shared_cpu_list")
+        except OSError:
+            continue
+        if kind == "Instruction":
+            continue
+        n = sum(int(b) - int(a) + 1 if "-" in p else 1
+                for p in shared.split(",") for a, _, b in [p.partition("-")])
+        name = f"L{level}" + ("d" if kind == "Data" else "")
+        caches.append(f"{name} {size_text(size)} ({'per CPU' if n == 1 else f'shared by {n} CPUs'})")
+except OSError:
+    pass
+mem = "?"
+try:
+    for line in open("/proc/meminfo"):
+        if line.startswith("MemTotal:"):
+            mem = f"{int(line.split()[1]) / 1024 / 1024:.1f} GiB"
+except OSError:
+    pass
+thp = "?"
+try:
+    t = open("/sys/kernel/mm/transparent_hugepage/enabled").read()
+    thp = t[t.index("[") + 1:t.index("]")]
+except (OSError, ValueError):
+    pass
+vm = "a virtual machine" if "hypervisor" in info.get("flags", "").split() else "not a virtual machine"
+cpu = (f"{info.get('model name', '?')} ({info.get('vendor_id', '?')} family {info.get('cpu family', '?')} "
+       f"model {info.get('model', '?')} stepping {info.get('stepping', '?')})")
+print(f"machine: {cpu}, {os.cpu_count()} CPUs, {vm}; caches {', '.join(caches) or '?'}; memory {mem}; "
+      f"transparent huge pages {thp}; Linux {os.uname().release}")
+if gs:
+    try:
+        v = subprocess.run([gs, "version"], capture_output=True, text=True, timeout=30).stdout.strip()
+    except (OSError, subprocess.SubprocessError):
+        v = ""
+    print(f"build: {v or gs + ' (its version unknown)'}")
+PY
 }
 
 # kept_state WHAT CKPT LOG ARGS...: the state CKPT as an earlier call kept it (FRESH=1: made again), or

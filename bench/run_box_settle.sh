@@ -102,7 +102,8 @@ for n in $COUNTS; do
 done
 
 # ---------------------------------------------------------------- 4. table
-python3 - "$OUT" "$STEPS" "$REPEATS" "$COUNTS" "$GS_N" "$GS_DT" "$SKIN" "$TSETTLE" <<'PY' | tee "$OUT/results.txt"
+machine_description | tee "$OUT/results.txt"
+python3 - "$OUT" "$STEPS" "$REPEATS" "$COUNTS" "$GS_N" "$GS_DT" "$SKIN" "$TSETTLE" <<'PY' | tee -a "$OUT/results.txt"
 import glob, os, re, sys
 out, steps, repeats, counts = sys.argv[1], int(sys.argv[2]), int(sys.argv[3]), [int(c) for c in sys.argv[4].split()]
 gs_n, gs_dt, skin, tsettle = sys.argv[5:9]

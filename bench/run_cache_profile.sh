@@ -76,7 +76,8 @@ valgrind --tool=callgrind --cache-sim=yes --D1=32768,8,64 --LL="$LL_BYTES",16,64
 callgrind_annotate --inclusive=yes --threshold=100 --show=Ir,D1mr,D1mw,DLmr,DLmw "$OUT/callgrind.out" \
   >"$OUT/inclusive.txt" 2>/dev/null || die "callgrind_annotate failed on $OUT/callgrind.out"
 
-python3 - "$OUT/profile.log" "$OUT/inclusive.txt" "$STEPS" "$LL_BYTES" "$SCENARIO" <<'PY' | tee "$OUT/results.txt"
+GS="$GS_PROFILE" machine_description | tee "$OUT/results.txt"
+python3 - "$OUT/profile.log" "$OUT/inclusive.txt" "$STEPS" "$LL_BYTES" "$SCENARIO" <<'PY' | tee -a "$OUT/results.txt"
 import re, sys
 log, table, steps, ll, scenario = sys.argv[1], sys.argv[2], int(sys.argv[3]), int(sys.argv[4]), sys.argv[5]
 spheres = None

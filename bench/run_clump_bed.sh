@@ -155,8 +155,9 @@ for r in $(seq 1 "$REPEATS"); do
 done
 
 # ---------------------------------------------------------------- 4. table
+machine_description | tee "$OUT/results.txt"
 python3 - "$OUT" "$STEPS" "$REPEATS" "$COUNTS" "$GS_N" "$GS_B" "$GS_DT" "$GS_SKIN" "$SETTLE" "$AREA" "$RHO" "$GS_THIN" \
-  <<'PY' | tee "$OUT/results.txt"
+  <<'PY' | tee -a "$OUT/results.txt"
 import glob, os, re, sys
 out, steps, repeats = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
 counts = [int(c) for c in sys.argv[4].split()]

@@ -194,8 +194,9 @@ for n in $COUNTS; do
 done
 
 # ---------------------------------------------------------------- 4. table
+machine_description | tee "$OUT/results.txt"
 python3 - "$OUT" "$STEPS" "$REPEATS" "$COUNTS" "$CLUMPS" "$NPER" "$DT" "$SKIN" "$SETTLE" "$AREA" "$RHO" \
-  "$LMP_VERSION" "$OTHER_OUT" <<'PY' | tee "$OUT/results.txt"
+  "$LMP_VERSION" "$OTHER_OUT" <<'PY' | tee -a "$OUT/results.txt"
 import glob, os, re, sys
 out, steps, repeats = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
 counts = [int(c) for c in sys.argv[4].split()]

@@ -76,7 +76,8 @@ for r in $(seq 1 "$REPEATS"); do
   grep -E '^threads' "$log" >&2 || die "no 'threads N:' line in $log"
 done
 
-python3 - "$OUT" "$REPEATS" "$SRC" "$TILTED" <<'PY' | tee "$OUT/results.txt"
+machine_description | tee "$OUT/results.txt"
+python3 - "$OUT" "$REPEATS" "$SRC" "$TILTED" <<'PY' | tee -a "$OUT/results.txt"
 import re, sys
 out, repeats, src, tilted = sys.argv[1], int(sys.argv[2]), sys.argv[3], sys.argv[4]
 w = open(f"{out}/poured.txt").read().split(); s = dict(zip(w[0::2], w[1::2]))

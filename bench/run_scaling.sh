@@ -131,7 +131,8 @@ if [[ "$WITH_LIGGGHTS" != 0 ]]; then
   done
 fi
 
-python3 - "$OUT" "${ran[@]}" <<'PY' | tee "$OUT/results.txt"
+machine_description | tee "$OUT/results.txt"
+python3 - "$OUT" "${ran[@]}" <<'PY' | tee -a "$OUT/results.txt"
 import glob, math, re, sys
 out, sizes = sys.argv[1], [int(s) for s in sys.argv[2:]]
 

@@ -17,6 +17,7 @@
 
 #include "coarsegrain/cg_run.hpp"
 #include "continuum/run_continuum.hpp"
+#include "dem/build_description.hpp"
 #include "dem/checkpoint.hpp"
 #include "dem/dem_run.hpp"
 #include "dem/force_field.hpp"
@@ -432,7 +433,7 @@ int main(int argc, char** argv) {
     if (cmd == "calibrate") return studies::calibrate_main(a.positional, a.out, a.threads, a.cases);
     if (cmd == "shape") return run_shape(a);
     if (cmd == "version") {
-      std::cout << "grainscale " << version << " (" << git_revision << ")\n";
+      std::cout << "grainscale " << version << " (" << git_revision << "); " << dem::build_description() << "\n";
       return 0;
     }
     std::cerr << "grainscale: unknown command '" << cmd << "' (see grainscale --help)\n";

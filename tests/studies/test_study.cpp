@@ -9,6 +9,7 @@
 #include "coarsegrain/cg_settings.hpp"
 #include "continuum/settings.hpp"
 #include "dem/input_error.hpp"
+#include "grainscale_version.hpp"
 #include "studies/fit_command.hpp"
 #include "studies/study_kinds.hpp"
 #include "studies/study_run.hpp"
@@ -175,6 +176,38 @@ TEST_CASE("grainscale COMMAND --help prints that command's usage", "[study][cli]
     CHECK(out.rfind("usage: grainscale " + cmd + " ", 0) == 0);
     CHECK(out.find("(all commands: grainscale --help)") != std::string::npos);
   }
+}
+
+TEST_CASE("grainscale version names the revision and the build the benchmarks' figures come from", "[study][cli]") {
+  // bench/lib_bench.sh writes this line first in every results.txt. This test is compiled with the
+  // flags of the binary (CMakeLists.txt), so its macros say what the line must say.
+  const testing::CommandResult r = testing::run_command(std::string(GRAINSCALE_BINARY) + " version");
+  const std::string& out = r.output;
+  CHECK(r.status == 0);
+  CHECK(out.rfind("grainscale ", 0) == 0);
+  CHECK(out.find(std::string("(") + git_revision + ")") != std::string::npos);
+#if defined(__clang__)
+  CHECK(out.find("Clang ") != std::string::npos);
+#elif defined(__GNUC__)
+  CHECK(out.find(std::string("GCC ") + __VERSION__) != std::string::npos);
+#endif
+#if defined(__AVX512F__)
+  CHECK(out.find(", x86-64 with AVX-512,") != std::string::npos);
+#elif defined(__AVX2__)
+  CHECK(out.find(", x86-64 with AVX2,") != std::string::npos);
+#elif defined(__x86_64__)
+  CHECK(out.find(", x86-64 without AVX2,") != std::string::npos);
+#endif
+#if defined(__OPTIMIZE__)
+  CHECK(out.find(", optimised,") != std::string::npos);
+#else
+  CHECK(out.find(", not optimised") != std::string::npos);
+#endif
+#if defined(NDEBUG)
+  CHECK(out.find(", assertions off") != std::string::npos);
+#else
+  CHECK(out.find(", assertions on") != std::string::npos);
+#endif
 }
 
 TEST_CASE("grainscale names a bad number in an option (--steps, --warmup, --threads, --density, --mass) and the allowed range", "[study][cli][input]") {
