@@ -8,12 +8,12 @@
 #   REPEATS=2          timed runs per code and count; the fastest is reported
 #   IDLE_WAIT=600      seconds to wait, before each timed run, for the machine to be idle
 #   IDLE_MAX=10        % of all CPUs that other processes may use and still count as idle
-# Logs: bench/out/ (grainscale_*.log, liggghts_*.log, results.txt).
+#   OUT=bench/out      logs (grainscale_*.log, liggghts_*.log) and results.txt
 set -euo pipefail
 
 HERE="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 ROOT="$(cd "$HERE/.." && pwd)"
-OUT="$HERE/out"
+OUT="${OUT:-$HERE/out}"
 YAML="$HERE/box_settle.yaml"
 LIG_IN="$HERE/liggghts/in.box_settle"
 
@@ -30,6 +30,7 @@ source "$HERE/lib_bench.sh"
 [[ -f "$YAML" ]] || die "missing $YAML"
 [[ -f "$LIG_IN" ]] || die "missing $LIG_IN"
 mkdir -p "$OUT"
+OUT="$(cd "$OUT" && pwd)"  # (LIGGGHTS runs in OUT)
 need_liggghts    # LIGGGHTS from Debian, installed if missing; MPIRUN
 need_grainscale  # GS, built into build/ if missing
 
