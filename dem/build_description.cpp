@@ -1,5 +1,7 @@
 #include "dem/build_description.hpp"
 
+#include "grainscale_version.hpp"
+
 namespace grainscale::dem {
 
 // Compiled with the flags of the rest of dem/ (CMakeLists.txt), so the macros below say what the
@@ -40,6 +42,10 @@ std::string build_description() {
   s += ", assertions on";
 #endif
   return s;
+}
+
+std::string version_line() {
+  return std::string("grainscale ") + version + " (" + git_revision + "); " + build_description();
 }
 
 }  // namespace grainscale::dem

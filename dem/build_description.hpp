@@ -12,4 +12,8 @@ namespace grainscale::dem {
 /// e.g. "GCC 12.2.0, x86-64 with AVX-512, OpenMP 201511, optimised, assertions off".
 std::string build_description();
 
+/// "grainscale <version> (<git revision>); <build_description()>": what `grainscale version` prints
+/// and the first line of a DEM run's log.
+std::string version_line();
+
 }  // namespace grainscale::dem

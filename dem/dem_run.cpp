@@ -86,7 +86,7 @@ void DemRun::setup() {
   fs::copy_file(scenario_.materials_file, fs::path(out_dir_) / "inputs" / fs::path(scenario_.materials_file).filename(),
                 fs::copy_options::overwrite_existing);
 
-  log(std::string("grainscale ") + version + " (" + git_revision + "; " + build_description() + "), scenario " + scenario_file_);
+  log(version_line() + ", scenario " + scenario_file_);
   // Once, now: every checkpoint records the scenario as the run started (the files may change later).
   fingerprint_ = scenario_fingerprint(scenario_);
   if (resume_) {

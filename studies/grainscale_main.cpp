@@ -33,7 +33,6 @@
 #include "studies/option_number.hpp"
 #include "studies/shape_picture.hpp"
 #include "studies/study_kinds.hpp"
-#include "grainscale_version.hpp"
 
 namespace {
 
@@ -101,7 +100,7 @@ commands:
         principal moments; with --mass, the density that gives that particle mass
         (e.g. the thousand-grain mass / 1000); --png draws top, side and end views
   version
-        print the version
+        print the version, its git revision and the build (compiler, instruction set)
 
 Scenario format: docs/scenario.md. Snapshot layout: docs/snapshot_layout.md.
 )";
@@ -433,7 +432,7 @@ int main(int argc, char** argv) {
     if (cmd == "calibrate") return studies::calibrate_main(a.positional, a.out, a.threads, a.cases);
     if (cmd == "shape") return run_shape(a);
     if (cmd == "version") {
-      std::cout << "grainscale " << version << " (" << git_revision << "); " << dem::build_description() << "\n";
+      std::cout << dem::version_line() << "\n";
       return 0;
     }
     std::cerr << "grainscale: unknown command '" << cmd << "' (see grainscale --help)\n";
