@@ -2,7 +2,8 @@
 # run_scaling.sh, run_platform_rate.sh.
 # Before sourcing, set BENCH_NAME (message prefix). Provides:
 #   HERE ROOT NCPU HZ; die say; need_grainscale (sets GS); need_liggghts (sets LIGGGHTS, MPIRUN);
-#   busy_jiffies other_cpu_percent wait_idle (IDLE_WAIT, IDLE_MAX); core_round_trip; run_logged LOG CMD...;
+#   busy_jiffies other_cpu_percent wait_idle (IDLE_WAIT, IDLE_MAX); core_round_trip; memory_latency;
+#   run_logged LOG CMD...;
 #   machine_description (first lines of every results.txt);
 #   yaml_with FILE OUT KEY=VALUE... (a copy of a scenario with keys replaced, paths made absolute).
 
@@ -143,14 +144,26 @@ PY
   return $rc
 }
 
+# memory_latency: the machine's load-to-use time by working set, one line ("32 KiB 1.4 ns, ...";
+# bench/memory_latency.c, compiled once into a temporary folder, ~8 s); "?" with no C compiler.
+memory_latency() {
+  if [[ -z "${MEM_LAT_BIN:-}" ]]; then
+    MEM_LAT_BIN="$(mktemp -d)/memory_latency"
+    cc -O2 "$HERE/memory_latency.c" -o "$MEM_LAT_BIN" 2>/dev/null || MEM_LAT_BIN=false
+  fi
+  if [[ "$MEM_LAT_BIN" == false ]]; then echo "?"; else "$MEM_LAT_BIN" 2>/dev/null || echo "?"; fi
+}
+
 # machine_description: the machine and the build the figures come from, first in every results.txt:
 # the CPU (model name, vendor, family / model / stepping), the CPUs, each cache level's size and how
-# many CPUs share it, the memory, whether it is a virtual machine, transparent huge pages, the kernel,
-# and the grainscale binary's `version` line (revision, compiler, instruction set, optimised or not).
-# The same code's figures differ by tens of per cent between machines (docs/performance.md), so a
-# figure is only comparable with one from the same machine.
+# many CPUs share it, the memory, whether it is a virtual machine, transparent huge pages, the kernel;
+# the load-to-use time by working set (memory_latency: what the caches reach, which the sizes above
+# do not say; measured after the timed runs, not beside them); and the grainscale binary's `version`
+# line (revision, compiler, instruction set, optimised or not). The same code's figures differ by
+# tens of per cent between machines (docs/performance.md), so a figure is only comparable with one
+# from the same machine.
 machine_description() {
-  python3 - "${GS:-}" <<'PY'
+  python3 - "${GS:-}" "$(memory_latency)" <<'PY'
 import os, subprocess, sys
 gs = sys.argv[1]
 info = {}
@@ -204,6 +217,7 @@ cpu = (f"{info.get('model name', '?')} ({info.get('vendor_id', '?')} family {inf
        f"model {info.get('model', '?')} stepping {info.get('stepping', '?')})")
 print(f"machine: {cpu}, {os.cpu_count()} CPUs, {vm}; caches {', '.join(caches) or '?'}; memory {mem}; "
       f"transparent huge pages {thp}; Linux {os.uname().release}")
+print(f"latency: {sys.argv[2]} (a load's wait by working set, a pointer chase: bench/memory_latency.c)")
 if gs:
     try:
         v = subprocess.run([gs, "version"], capture_output=True, text=True, timeout=30).stdout.strip()
