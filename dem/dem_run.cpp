@@ -243,7 +243,7 @@ void DemRun::run() {
           << describe(sim.stability(), sim.bodies());
         log(m.str());
       }
-      if (sim.steps() % kCheckEvery == 0) progress.update(sim.time(), sim.steps(), sim.particles().size());
+      if (sim.steps() % kCheckEvery == 0) progress.update(sim.time(), sim.steps(), sim.particles().size(), false, sim.dt());
       if (sim.stability().margin > 1 && !warned_stability_) {
         // Warn once: the run goes on (a transient squeeze may pass) but the user should know why it may
         // blow up or why a light particle was shot out.
@@ -292,7 +292,7 @@ void DemRun::run() {
     throw std::runtime_error(note);
   }
   for (const std::string& line : run_.pour_report()) log(line);
-  progress.update(sim.time(), sim.steps(), sim.particles().size(), true);
+  progress.update(sim.time(), sim.steps(), sim.particles().size(), true, sim.dt());
   write_checkpoint_now();  // the end: a later --resume with a later time.end goes on from here
 }
 

@@ -18,7 +18,7 @@ std::string Progress::format_duration(double s) {
   return buf;
 }
 
-void Progress::update(double sim_time, std::uint64_t steps, std::size_t particles, bool force) {
+void Progress::update(double sim_time, std::uint64_t steps, std::size_t particles, bool force, double dt) {
   const auto now = Clock::now();
   if (first_) {
     steps0_ = steps;
@@ -31,10 +31,18 @@ void Progress::update(double sim_time, std::uint64_t steps, std::size_t particle
   const double rate = wall > 0 ? (sim_time - start_) / wall : 0;  // simulated s per wall s
   const double eta = rate > 0 ? (end_ - sim_time) / rate : -1;
   const double sphere_steps = wall > 0 ? static_cast<double>(steps - steps0_) * particles / wall : 0;
-  char line[256];
-  std::snprintf(line, sizeof line, "t = %.4g / %.4g s (%5.1f %%) | %.3g sim s per wall h | %.3g M sphere-steps/s | ETA %s",
-                sim_time, end_, 100 * done, rate * 3600, sphere_steps / 1e6, format_duration(eta).c_str());
-  sink_(line);
+  sink_(line(sim_time, end_, done, dt, rate, sphere_steps, eta));
+}
+
+std::string Progress::line(double sim_time, double sim_end, double done, double dt, double sim_per_wall_s,
+                           double sphere_steps_per_s, double eta) {
+  char step[48] = "";
+  if (dt > 0) std::snprintf(step, sizeof step, " | step %.4g s", dt);
+  char text[320];
+  std::snprintf(text, sizeof text, "t = %.4g / %.4g s (%5.1f %%)%s | %.3g sim s per wall h | %.3g M sphere-steps/s | ETA %s",
+                sim_time, sim_end, 100 * done, step, sim_per_wall_s * 3600, sphere_steps_per_s / 1e6,
+                format_duration(eta).c_str());
+  return text;
 }
 
 }  // namespace grainscale::dem
