@@ -146,7 +146,7 @@ PY
 
 # memory_latency: the machine's load-to-use time by working set, one line ("32 KiB 1.4 ns, ...;
 # other load 0.01 cores"; bench/memory_latency.c, compiled once into a temporary folder, ~8 s); "?"
-# with no C compiler. The other load is the CPU other processes used meanwhile: a busy machine's
+# with no C compiler. The other load is the CPU other processes used meanwhile (run_logged): a busy machine's
 # figures are not its latencies (one busy core took the 256 KiB figure from 4 to 23 ns here).
 memory_latency() {
   if [[ -z "${MEM_LAT_BIN:-}" ]]; then
@@ -154,14 +154,10 @@ memory_latency() {
     cc -O2 "$HERE/memory_latency.c" -o "$MEM_LAT_BIN" 2>/dev/null || MEM_LAT_BIN=false
   fi
   if [[ "$MEM_LAT_BIN" == false ]]; then echo "?"; return; fi
-  local a b t0 t1 line own
-  a=($(busy_jiffies)); t0="$(date +%s.%N)"
-  line="$(/usr/bin/time -f 'OWN_CPU_S %U %S' -o "$MEM_LAT_BIN.cpu" "$MEM_LAT_BIN" 2>/dev/null)" || line="?"
-  t1="$(date +%s.%N)"; b=($(busy_jiffies))
-  own="$(awk '/^OWN_CPU_S/{print $2 + $3}' "$MEM_LAT_BIN.cpu" 2>/dev/null)"
-  awk -v l="$line" -v a="${a[0]}" -v b="${b[0]}" -v hz="$HZ" -v own="${own:-0}" -v t0="$t0" -v t1="$t1" \
-    'BEGIN { w = t1 - t0; o = w > 0 ? ((b - a) / hz - own) / w : 0; if (o < 0) o = 0;
-             printf "%s; other load %.2f cores\n", l, o }'
+  local line="?" other="?"
+  if run_logged "$MEM_LAT_BIN.log" "$MEM_LAT_BIN"; then line="$(head -n 1 "$MEM_LAT_BIN.log")"; fi
+  other="$(awk '{for (i = 1; i < NF; ++i) if ($i == "other_cores") print $(i + 1)}' "$MEM_LAT_BIN.log.load" 2>/dev/null)"
+  echo "$line; other load ${other:-?} cores"
 }
 
 # machine_description: the machine and the build the figures come from, first in every results.txt:

@@ -125,8 +125,10 @@ int main(int argc, char** argv) {
   static const size_t defaults[] = {32, 256, 1024, 2048, 4096, 8192, 16384, 65536, 262144};
   const int count = argc > 1 ? argc - 1 : (int)(sizeof defaults / sizeof defaults[0]);
   for (int i = 0; i < count; ++i) {
-    size_t kib = defaults[i < (int)(sizeof defaults / sizeof defaults[0]) ? i : 0];
-    if (argc > 1) {
+    size_t kib = 0;
+    if (argc == 1) {
+      kib = defaults[i];
+    } else {
       char* end = NULL;
       const unsigned long long v = strtoull(argv[i + 1], &end, 10);
       if (end == argv[i + 1] || *end != '\0' || v < 1 || v > (1ull << 24)) {
