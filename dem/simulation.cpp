@@ -651,15 +651,84 @@ inline void kick_lone_sphere(Particles& p, Bodies& b, std::size_t k, double half
   p.v[k] += (half * b.inv_mass[k]) * lone_sphere_force(p.force[k], p.mass[k], gravity);
   b.L[k] += half * lone_sphere_torque(p.force[k], p.torque[k]);
 }
+constexpr std::size_t kFollowLanes = 8;
+/// Sphere s follows body k (follow_body's numbers, by the same operations); returns its
+/// moved_since_build. Component by component: a Vec3 copied whole (`omega_s = omega_b`) is one
+/// statement with two memory references, which GCC's vectoriser refuses.
+template <bool kInFrame, bool kSlack>
+[[gnu::always_inline]] inline double follow_one(std::size_t s, std::size_t k, const Quat* __restrict q,
+                                                const Vec3* __restrict bx, const Vec3* __restrict bv,
+                                                const Vec3* __restrict bw, const Vec3* __restrict offset,
+                                                const Vec3* __restrict at_build, Vec3* __restrict xs,
+                                                Vec3* __restrict vs, Vec3* __restrict ws,
+                                                const double* __restrict slack, const FrameShift& shift) {
+  const Vec3 r = rotate(Quat{q[k].w, q[k].x, q[k].y, q[k].z}, Vec3{offset[s].x, offset[s].y, offset[s].z});
+  const double x0 = bx[k].x + r.x, x1 = bx[k].y + r.y, x2 = bx[k].z + r.z;
+  const Vec3 w{bw[k].x, bw[k].y, bw[k].z};
+  const Vec3 v = Vec3{bv[k].x, bv[k].y, bv[k].z} + cross(w, r);
+  xs[s].x = x0, xs[s].y = x1, xs[s].z = x2;
+  vs[s].x = v.x, vs[s].y = v.y, vs[s].z = v.z;
+  ws[s].x = w.x, ws[s].y = w.y, ws[s].z = w.z;
+  const Vec3 then{at_build[s].x, at_build[s].y, at_build[s].z};
+  const double moved2 = norm2(Vec3{x0, x1, x2} - (kInFrame ? shift.carry(then) : then));
+  if constexpr (kSlack) return moved2 - slack[s];
+  return moved2;
+}
+/// Spheres [first, last) follow their bodies (follow_one), kFollowLanes at a time, vectorised: the
+/// bodies' state loaded by index, element by element, into vector registers (GCC's emulated gather:
+/// no gather instruction, which the Downfall microcode makes slow), the spheres' triples read and
+/// written interleaved; each lane keeps its own running maximum of moved_since_build in `lane`
+/// (the largest is the same number in any order). Not inlined: its arrays are restrict-qualified
+/// parameters, which GCC honours in a function of its own; inlined, the vectoriser wanted more
+/// run-time alias checks than it allows and left the loop scalar. The bodies' state copied into
+/// lane arrays first, as RotationBatch does, stalled: each vector load of the copies waited for the
+/// scalar stores it spans to reach the cache (a third of the loop's samples). A sphere at a time,
+/// follow_body's loop was 14 % of the clump bed's cycles on the Intel VM (perf, 2026-12-07);
+/// tests/dem/follow_vectorised.sh checks it stays vectorised. kSlack: [first, last) lies below the
+/// slacks' end.
+template <bool kInFrame, bool kSlack>
+[[gnu::noinline]] void follow_span(std::size_t first, std::size_t last, const std::uint32_t* __restrict body,
+                                   const Quat* __restrict q, const Vec3* __restrict bx, const Vec3* __restrict bv,
+                                   const Vec3* __restrict bw, const Vec3* __restrict offset,
+                                   const Vec3* __restrict at_build, Vec3* __restrict xs, Vec3* __restrict vs,
+                                   Vec3* __restrict ws, const double* __restrict slack, const FrameShift& shift,
+                                   double* __restrict lane) {
+  std::size_t s = first;
+  for (; s + kFollowLanes <= last; s += kFollowLanes) {
+    for (std::size_t c = 0; c < kFollowLanes; ++c) {
+      const double moved2 =
+          follow_one<kInFrame, kSlack>(s + c, body[s + c], q, bx, bv, bw, offset, at_build, xs, vs, ws, slack, shift);
+      lane[c] = std::max(lane[c], moved2);
+    }
+  }
+  for (; s < last; ++s) {
+    const double moved2 =
+        follow_one<kInFrame, kSlack>(s, body[s], q, bx, bv, bw, offset, at_build, xs, vs, ws, slack, shift);
+    lane[0] = std::max(lane[0], moved2);
+  }
+}
+template <bool kInFrame, bool kSlack>
+inline void follow_run(Particles& p, const Bodies& b, std::size_t first, std::size_t last, const double* slack,
+                       const FrameShift& shift, double (&lane)[kFollowLanes]) {
+  if (first >= last) return;
+  follow_span<kInFrame, kSlack>(first, last, p.body.data(), b.q.data(), b.x.data(), b.v.data(), b.omega.data(),
+                                p.offset.data(), p.x_at_build.data(), p.x.data(), p.v.data(), p.omega.data(), slack,
+                                shift, lane);
+}
 /// The largest follow_body over spheres [first, last), the frame's branch taken once.
 inline double follow_bodies(Particles& p, const Bodies& b, std::size_t first, std::size_t last, const double* slack,
                             std::size_t slack_n, const FrameShift& shift) {
-  double moved2 = 0;
+  double lane[kFollowLanes] = {};
+  const std::size_t mid = std::clamp(slack_n, first, last);
   if (shift.identity) {
-    for (std::size_t s = first; s < last; ++s) moved2 = std::max(moved2, follow_body<false>(p, b, s, slack, slack_n, shift));
+    follow_run<false, true>(p, b, first, mid, slack, shift, lane);
+    follow_run<false, false>(p, b, mid, last, slack, shift, lane);
   } else {
-    for (std::size_t s = first; s < last; ++s) moved2 = std::max(moved2, follow_body<true>(p, b, s, slack, slack_n, shift));
+    follow_run<true, true>(p, b, first, mid, slack, shift, lane);
+    follow_run<true, false>(p, b, mid, last, slack, shift, lane);
   }
+  double moved2 = 0;
+  for (double m : lane) moved2 = std::max(moved2, m);
   return moved2;
 }
 }  // namespace
