@@ -90,7 +90,7 @@ AorRunResult run_aor(const std::string& scenario_file, const AorCase& c, const s
   out.clear_time = end_time;
   while (sim.time() < end_time) {
     built.advance();
-    if ((sim.steps() & 255) == 0) progress.update(sim.time(), sim.steps(), sim.particles().size());
+    if ((sim.steps() & 255) == 0) progress.update(sim.time(), sim.steps(), sim.particles().size(), false, sim.dt());
     out.max_stability_margin = std::max(out.max_stability_margin, sim.stability().margin);
     if (!lifted && sim.time() >= earliest.lift_start && sim.steps() % every == 0) {
       // Lift once the pour is done and the fill has come to rest.
@@ -150,7 +150,7 @@ AorRunResult run_aor(const std::string& scenario_file, const AorCase& c, const s
       }
     }
   }
-  progress.update(sim.time(), sim.steps(), sim.particles().size(), true);
+  progress.update(sim.time(), sim.steps(), sim.particles().size(), true, sim.dt());
   out.end_time = sim.time();
   out.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   out.spheres = sim.particles().size();

@@ -2,11 +2,13 @@
 // functions (with and without noise), the generated rig scenario, the study file, the materials
 // file written back, the sensitivity figure. A real (small, 2x) AOR run is the hidden [.validate]
 // test at the end: minutes, not seconds.
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include "dem/input_error.hpp"
 #include "dem/material.hpp"
@@ -234,8 +236,10 @@ TEST_CASE("The sensitivity figure draws one panel per parameter", "[studies][aor
 }
 
 namespace {
-// One AOR run of a study's case at its `calibrated:` values, with one seed.
-AorRunResult run_at_calibrated(const CalibrationStudy& s, const CalibrationCase& k, std::uint64_t seed) {
+// One AOR run of a study's case at its `calibrated:` values, with one seed; its log's lines into
+// `log` if given.
+AorRunResult run_at_calibrated(const CalibrationStudy& s, const CalibrationCase& k, std::uint64_t seed,
+                               std::vector<std::string>* log = nullptr) {
   REQUIRE(k.calibrated.size() == k.parameters.size());
   dem::MaterialTable t = dem::MaterialTable::load(s.materials_file);
   for (std::size_t i = 0; i < k.parameters.size(); ++i) {
@@ -245,7 +249,9 @@ AorRunResult run_at_calibrated(const CalibrationStudy& s, const CalibrationCase&
   const AorCase c = aor_case(s, k, seed, m.path.string());
   const std::filesystem::path scenario = m.dir / "scenario.yaml";
   std::ofstream(scenario) << aor_scenario_yaml(c, m.dir.string());
-  return run_aor(scenario.string(), c, "", [](const std::string&) {});
+  return run_aor(scenario.string(), c, "", [log](const std::string& line) {
+    if (log != nullptr) log->push_back(line);
+  });
 }
 }  // namespace
 
@@ -275,9 +281,15 @@ TEST_CASE("A small 2x AOR run of barley stays in the band its eight-seed calibra
   REQUIRE(s.scale_factor == 2);
   const CalibrationCase& barley = s.cases.at(0);
   REQUIRE(barley.calibrated.size() == 1);
-  const AorRunResult r = run_at_calibrated(s, barley, 1);
+  std::vector<std::string> log;
+  const AorRunResult r = run_at_calibrated(s, barley, 1, &log);
   INFO("angle " << r.angle.mean_deg << " +- " << r.angle.spread_deg << " (side " << r.angle.side_mean_deg << "), "
                 << r.bodies_on_tray << " of " << r.bodies << " on the tray");
+  // The run's last progress line shows the time step, as a DEM run's do (dem/progress.hpp).
+  auto last = std::find_if(log.rbegin(), log.rend(), [](const std::string& l) { return l.rfind("t = ", 0) == 0; });
+  REQUIRE(last != log.rend());
+  INFO("last progress line: " << *last);
+  CHECK(last->find(" | step ") != std::string::npos);
   CHECK(r.at_rest);
   CHECK(r.bodies > 250);
   CHECK(r.bodies_on_tray > 0.95 * r.bodies);
