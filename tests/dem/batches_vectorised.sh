@@ -9,16 +9,5 @@
 # 12.2, AVX2 and AVX-512 builds: 10 to 16; without -fno-trapping-math on AVX2: 0).
 # Usage: batches_vectorised.sh OBJDUMP LIB MIN
 set -eu
-objdump=$1 lib=$2 min=$3
-"$objdump" -d --no-show-raw-insn "$lib" | awk -v min="$min" '
-  /^[0-9a-f]+ <.*>:$/ {
-    fn = $2
-    if (fn ~ /^<_ZN10grainscale3dem(9PairBatch|9WallBatch)I.*8evaluateEd>:$/) { seen[fn] = 1; count[fn] += 0 }
-  }
-  /\tv?sqrtpd/ { if (fn in seen) count[fn]++ }
-  END {
-    n = 0; bad = 0
-    for (f in count) { n++; printf "%d packed square roots in %s\n", count[f], f; if (count[f] < min) bad = 1 }
-    if (n == 0) { print "no PairBatch / WallBatch evaluate found out of line"; exit 1 }
-    if (bad) { printf "fewer than %d in some batch: the contact models not vectorised?\n", min; exit 1 }
-  }'
+exec sh "$(dirname "$0")/packed_in_functions.sh" "$1" "$2" "$3" \
+  '^<_ZN10grainscale3dem(9PairBatch|9WallBatch)I.*8evaluateEd>:$' '\tv?sqrtpd' 'packed square roots'
