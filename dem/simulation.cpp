@@ -600,27 +600,45 @@ inline double moved_since_build(const Particles& p, std::size_t s, const Vec3& x
   const double moved2 = norm2(x - (kInFrame ? shift.carry(at_build) : at_build));
   return s < slack_n ? moved2 - slack[s] : moved2;
 }
-/// Sphere s follows its body: x_s = x_b + R(q_b) offset_s, v_s = v_b + omega_b x (x_s - x_b),
+/// Sphere s follows body k: x_s = x_b + R(q_b) offset_s, v_s = v_b + omega_b x (x_s - x_b),
 /// omega_s = omega_b. Returns the squared displacement since the last neighbour build in the list's
-/// frame (`shift`: where the build's position is now if fixed in that frame), less the
-/// sphere's slack (a stray's, NeighborList::slack2: `slack` has `slack_n` entries, 0 beyond).
-/// kInFrame false: the world's frame (`shift` unused), the loop free of the frame's branch (the
-/// clump bed's step was 3-5 % slower with the branch inside it; follow_bodies picks once per loop).
+/// frame (`shift`: where the build's position is now if fixed in that frame), less the sphere's
+/// slack if kSlack (slack[s], a stray's: NeighborList::slack2). kInFrame false: the world's frame
+/// (`shift` unused), the loop free of the frame's branch (the clump bed's step was 3-5 % slower with
+/// the branch inside it; the callers pick once per loop). Component by component, in and out: a
+/// Vec3 copied whole (`omega_s = omega_b`) is one statement with two memory references, which GCC's
+/// vectoriser refuses (follow_span); a Vec3 local stored whole was kept on GCC's stack and copied 16
+/// bytes at a time, and read back, the 16-byte load of two 8-byte stores failed to forward (a third
+/// of the sphere loop's samples, nineteenth session).
+template <bool kInFrame, bool kSlack>
+[[gnu::always_inline]] inline double follow_one(std::size_t s, std::size_t k, const Quat* __restrict q,
+                                                const Vec3* __restrict bx, const Vec3* __restrict bv,
+                                                const Vec3* __restrict bw, const Vec3* __restrict offset,
+                                                const Vec3* __restrict at_build, Vec3* __restrict xs,
+                                                Vec3* __restrict vs, Vec3* __restrict ws,
+                                                const double* __restrict slack, const FrameShift& shift) {
+  const Vec3 r = rotate(Quat{q[k].w, q[k].x, q[k].y, q[k].z}, Vec3{offset[s].x, offset[s].y, offset[s].z});
+  const double x0 = bx[k].x + r.x, x1 = bx[k].y + r.y, x2 = bx[k].z + r.z;
+  const Vec3 w{bw[k].x, bw[k].y, bw[k].z};
+  const Vec3 v = Vec3{bv[k].x, bv[k].y, bv[k].z} + cross(w, r);
+  xs[s].x = x0, xs[s].y = x1, xs[s].z = x2;
+  vs[s].x = v.x, vs[s].y = v.y, vs[s].z = v.z;
+  ws[s].x = w.x, ws[s].y = w.y, ws[s].z = w.z;
+  const Vec3 then{at_build[s].x, at_build[s].y, at_build[s].z};
+  const double moved2 = norm2(Vec3{x0, x1, x2} - (kInFrame ? shift.carry(then) : then));
+  if constexpr (kSlack) return moved2 - slack[s];
+  return moved2;
+}
+/// follow_one for sphere s of the particles' arrays (`slack` has `slack_n` entries, 0 beyond).
 template <bool kInFrame>
 inline double follow_body(Particles& p, const Bodies& b, std::size_t s, const double* slack, std::size_t slack_n,
                           const FrameShift& shift) {
-  const std::uint32_t k = p.body[s];
-  const Vec3 r = rotate(b.q[k], p.offset[s]);
-  // The position's components in scalars, each stored and then used from its register. A Vec3 local
-  // stored whole was kept on GCC's stack and copied 16 bytes at a time (the 10^3 bed's step 6 %
-  // slower); stored and read back, the 16-byte load of two 8-byte stores failed to forward, and
-  // waited for them to reach the cache: a third of this loop's samples (perf, nineteenth session).
-  const double x0 = b.x[k].x + r.x, x1 = b.x[k].y + r.y, x2 = b.x[k].z + r.z;
-  Vec3& xs = p.x[s];
-  xs.x = x0, xs.y = x1, xs.z = x2;
-  p.v[s] = b.v[k] + cross(b.omega[k], r);
-  p.omega[s] = b.omega[k];
-  return moved_since_build<kInFrame>(p, s, Vec3{x0, x1, x2}, slack, slack_n, shift);
+  auto follow = [&](auto with_slack) {
+    return follow_one<kInFrame, decltype(with_slack)::value>(s, p.body[s], b.q.data(), b.x.data(), b.v.data(),
+                                                             b.omega.data(), p.offset.data(), p.x_at_build.data(),
+                                                             p.x.data(), p.v.data(), p.omega.data(), slack, shift);
+  };
+  return s < slack_n ? follow(std::true_type{}) : follow(std::false_type{});
 }
 /// The largest moved_since_build over spheres [first, last) where they are, the frame's branch taken once.
 inline double moved_spheres(const Particles& p, std::size_t first, std::size_t last, const double* slack,
@@ -652,28 +670,6 @@ inline void kick_lone_sphere(Particles& p, Bodies& b, std::size_t k, double half
   b.L[k] += half * lone_sphere_torque(p.force[k], p.torque[k]);
 }
 constexpr std::size_t kFollowLanes = 8;
-/// Sphere s follows body k (follow_body's numbers, by the same operations); returns its
-/// moved_since_build. Component by component: a Vec3 copied whole (`omega_s = omega_b`) is one
-/// statement with two memory references, which GCC's vectoriser refuses.
-template <bool kInFrame, bool kSlack>
-[[gnu::always_inline]] inline double follow_one(std::size_t s, std::size_t k, const Quat* __restrict q,
-                                                const Vec3* __restrict bx, const Vec3* __restrict bv,
-                                                const Vec3* __restrict bw, const Vec3* __restrict offset,
-                                                const Vec3* __restrict at_build, Vec3* __restrict xs,
-                                                Vec3* __restrict vs, Vec3* __restrict ws,
-                                                const double* __restrict slack, const FrameShift& shift) {
-  const Vec3 r = rotate(Quat{q[k].w, q[k].x, q[k].y, q[k].z}, Vec3{offset[s].x, offset[s].y, offset[s].z});
-  const double x0 = bx[k].x + r.x, x1 = bx[k].y + r.y, x2 = bx[k].z + r.z;
-  const Vec3 w{bw[k].x, bw[k].y, bw[k].z};
-  const Vec3 v = Vec3{bv[k].x, bv[k].y, bv[k].z} + cross(w, r);
-  xs[s].x = x0, xs[s].y = x1, xs[s].z = x2;
-  vs[s].x = v.x, vs[s].y = v.y, vs[s].z = v.z;
-  ws[s].x = w.x, ws[s].y = w.y, ws[s].z = w.z;
-  const Vec3 then{at_build[s].x, at_build[s].y, at_build[s].z};
-  const double moved2 = norm2(Vec3{x0, x1, x2} - (kInFrame ? shift.carry(then) : then));
-  if constexpr (kSlack) return moved2 - slack[s];
-  return moved2;
-}
 /// Spheres [first, last) follow their bodies (follow_one), kFollowLanes at a time, vectorised: the
 /// bodies' state loaded by index, element by element, into vector registers (GCC's emulated gather:
 /// no gather instruction, which the Downfall microcode makes slow), the spheres' triples read and
