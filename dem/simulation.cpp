@@ -592,7 +592,7 @@ inline Vec3 body_angular_velocity(const Quat& q, const Vec3& L, const Vec3& iner
 }
 
 /// Sphere s's squared displacement since the last neighbour build to `x`, in the list's frame
-/// (`shift`; kInFrame false: the world's), less its slack (follow_body).
+/// (`shift`; kInFrame false: the world's), less its slack (follow_one).
 template <bool kInFrame>
 inline double moved_since_build(const Particles& p, std::size_t s, const Vec3& x, const double* slack, std::size_t slack_n,
                                 const FrameShift& shift) {
@@ -628,17 +628,6 @@ template <bool kInFrame, bool kSlack>
   const double moved2 = norm2(Vec3{x0, x1, x2} - (kInFrame ? shift.carry(then) : then));
   if constexpr (kSlack) return moved2 - slack[s];
   return moved2;
-}
-/// follow_one for sphere s of the particles' arrays (`slack` has `slack_n` entries, 0 beyond).
-template <bool kInFrame>
-inline double follow_body(Particles& p, const Bodies& b, std::size_t s, const double* slack, std::size_t slack_n,
-                          const FrameShift& shift) {
-  auto follow = [&](auto with_slack) {
-    return follow_one<kInFrame, decltype(with_slack)::value>(s, p.body[s], b.q.data(), b.x.data(), b.v.data(),
-                                                             b.omega.data(), p.offset.data(), p.x_at_build.data(),
-                                                             p.x.data(), p.v.data(), p.omega.data(), slack, shift);
-  };
-  return s < slack_n ? follow(std::true_type{}) : follow(std::false_type{});
 }
 /// The largest moved_since_build over spheres [first, last) where they are, the frame's branch taken once.
 inline double moved_spheres(const Particles& p, std::size_t first, std::size_t last, const double* slack,
@@ -679,7 +668,7 @@ constexpr std::size_t kFollowLanes = 8;
 /// run-time alias checks than it allows and left the loop scalar. The bodies' state copied into
 /// lane arrays first, as RotationBatch does, stalled: each vector load of the copies waited for the
 /// scalar stores it spans to reach the cache (a third of the loop's samples). A sphere at a time,
-/// follow_body's loop was 14 % of the clump bed's cycles on the Intel VM (perf, 2026-12-07);
+/// the follow's loop was 14 % of the clump bed's cycles on the Intel VM (perf, 2026-12-07);
 /// tests/dem/follow_vectorised.sh checks it stays vectorised. kSlack: [first, last) lies below the
 /// slacks' end.
 template <bool kInFrame, bool kSlack>
@@ -711,7 +700,8 @@ inline void follow_run(Particles& p, const Bodies& b, std::size_t first, std::si
                                 p.offset.data(), p.x_at_build.data(), p.x.data(), p.v.data(), p.omega.data(), slack,
                                 shift, lane);
 }
-/// The largest follow_body over spheres [first, last), the frame's branch taken once.
+/// Spheres [first, last) follow their bodies (follow_one); returns the largest displacement, the
+/// frame's branch taken once.
 inline double follow_bodies(Particles& p, const Bodies& b, std::size_t first, std::size_t last, const double* slack,
                             std::size_t slack_n, const FrameShift& shift) {
   double lane[kFollowLanes] = {};
@@ -925,11 +915,12 @@ void Simulation::move_spheres_with_bodies() {
   const double* slack = neighbors_.slack2().data();
   const std::size_t slack_n = neighbors_.slack2().size();
   const FrameShift shift = frame_shift_at(time_);
-#pragma omp parallel for if(n >= parallel_min_items()) schedule(static) reduction(max : moved2)
-  for (std::size_t s = 0; s < n; ++s) {
-    moved2 = std::max(moved2, shift.identity ? follow_body<false>(p, bodies_, s, slack, slack_n, shift)
-                                             : follow_body<true>(p, bodies_, s, slack, slack_n, shift));
-    p.q[s] = bodies_.q[p.body[s]];
+#pragma omp parallel if(n >= parallel_min_items()) reduction(max : moved2)
+  {
+    std::size_t first = 0, last = 0;
+    equal_share(n, omp_get_num_threads(), omp_get_thread_num(), first, last);
+    moved2 = follow_bodies(p, bodies_, first, last, slack, slack_n, shift);
+    for (std::size_t s = first; s < last; ++s) p.q[s] = bodies_.q[p.body[s]];
   }
   moved2_ = moved2;
 }

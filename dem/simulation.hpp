@@ -205,7 +205,7 @@ class Simulation {
   void check_step_for(int material, double radius) const;
   const MassProperties& mass_properties_of(const Shape& shape);
   /// Thread `thread`'s part of the drift (half kick, drift, spheres follow), in a region of `team`;
-  /// returns the largest squared displacement among its spheres (as follow_body gives it).
+  /// returns the largest squared displacement among its spheres (as follow_one gives it).
   double drift_part(int team, int thread, double dt, std::uint64_t epoch);
   /// Up to `most` steps in one parallel region; returns how many were done (at least one).
   std::uint64_t steps_in_region(std::uint64_t most);

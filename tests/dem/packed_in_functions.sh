@@ -5,7 +5,7 @@
 # follow_vectorised.sh, which say what they check and why.
 # Usage: packed_in_functions.sh OBJDUMP LIB MIN FUNCTIONS PACKED WHAT
 #   FUNCTIONS: an awk regex for "<mangled name>:" lines; PACKED: an awk regex for an instruction;
-#   WHAT: words for the messages ("packed square roots", "PairBatch / WallBatch evaluate").
+#   WHAT: what PACKED counts, for the messages ("packed square roots").
 set -eu
 objdump=$1 lib=$2 min=$3 functions=$4 packed=$5 what=$6
 "$objdump" -d --no-show-raw-insn "$lib" | awk -v min="$min" -v functions="$functions" -v packed="$packed" -v what="$what" '
