@@ -19,27 +19,30 @@
 
 namespace grainscale::dem {
 
-/// The lines of kArrays arrays over the same range of elements, requested one line of each per call.
+/// The lines of up to kArrays arrays over the same range of elements, requested one line of each per call.
 template <int kArrays>
 class BoundaryLines {
  public:
   static constexpr std::size_t kLine = 64;
 
   BoundaryLines() = default;
-  /// The first `bytes` bytes from each of `begin`.
+  /// The first `bytes` bytes from each of `begin` but a null one.
   BoundaryLines(const void* const (&begin)[kArrays], std::size_t bytes) : lines_((bytes + kLine - 1) / kLine) {
-    for (int a = 0; a < kArrays; ++a) begin_[a] = static_cast<const char*>(begin[a]);
+    for (const void* array : begin) {
+      if (array != nullptr) begin_[arrays_++] = static_cast<const char*>(array);
+    }
   }
 
   /// Request the next line of each array, for writing (none once all have been requested).
   void fetch_next_for_write() {
     if (next_ == lines_) return;
-    for (int a = 0; a < kArrays; ++a) prefetch_for_write(begin_[a] + kLine * next_);
+    for (int a = 0; a < arrays_; ++a) prefetch_for_write(begin_[a] + kLine * next_);
     ++next_;
   }
 
  private:
   const char* begin_[kArrays] = {};
+  int arrays_ = 0;
   std::size_t lines_ = 0, next_ = 0;
 };
 

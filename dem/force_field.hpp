@@ -176,6 +176,11 @@ class ForceField {
                       models_);
   }
   ContactEnergy contact_energy(const Particles& p, const NeighborList& nl, const std::vector<Wall>& walls) const;
+  /// Where the force loop reads sphere s's angular velocity: p.omega[s] (nullptr, the default), or
+  /// body_omega[p.body[s]], its rigid body's. A sphere of a clump turns with its body (omega_s =
+  /// omega_b, the same number), so the drift need not copy it into every sphere (Simulation, which
+  /// sets it before each force evaluation: 24 bytes fewer stored per sphere-step).
+  void read_spin_from_bodies(const Vec3* body_omega) { body_omega_ = body_omega; }
   /// The last compute()'s rings of partner shares: entries per thread (0: none), and how far a pair
   /// may reach (partner - owner, in slots) and keep its share there (share_ring_entries()).
   std::size_t share_ring_size() const { return ring_entries_; }
@@ -257,6 +262,7 @@ class ForceField {
 
   AnyModels models_;
   std::vector<int> wall_material_;
+  const Vec3* body_omega_ = nullptr;  // read_spin_from_bodies
   std::vector<PartnerShare> partner_share_;
   // The rings of partner shares (share_ring_entries()), ring_entries_ per thread, in beds beyond the
   // caches; ring_entries_ 0 when none is used. An entry's share is kept in its thread's ring, at
