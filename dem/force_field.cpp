@@ -215,7 +215,12 @@ template <class Rolling>
   WallSlot* slots = wall_slots_.now(i);  // slot s at slots[s * stride]
   const WallSlot* old = wall_slots_.before(i);
   int used = 0;
-  const Vec3 xi = p.x[i], vi = p.v[i], wi = body_omega_ != nullptr ? body_omega_[p.body[i]] : p.omega[i];
+  const Vec3 xi = p.x[i];
+  Vec3 vi = p.v[i], wi = p.omega[i];
+  if (body_.x != nullptr) {
+    const std::uint32_t k = p.body[i];
+    wi = body_.omega[k], vi = body_.v[k] + cross(wi, xi - body_.x[k]);
+  }
   const double ri = p.radius[i], mass_i = p.mass[i], inertia_i = p.inertia[i];
   for (std::size_t w = 0; w < walls.size(); ++w) {
     if (w < kMaskedWalls && !(near >> w & 1u)) continue;  // out of reach until the masks are made again
@@ -466,11 +471,19 @@ void ForceField::pass_with(const Models<Rolling>& m, int threads, int thread, Pa
     // instruction, 9 % of the step, was the load of x[j] behind them). In the region: the same
     // numbers, the clump bed -2 to -22 % time on 1 thread (6 interleaved pairs; docs/performance.md).
     const Vec3 *const x = p.x.data(), *const v = p.v.data(), *const omega = p.omega.data();
-    // A sphere's angular velocity: its own (omega), or its body's (read_spin_from_bodies).
-    const Vec3* const body_omega = body_omega_;
+    // A sphere's velocity and angular velocity (at x_s): its own, or from its body's
+    // (read_motion_from_bodies).
+    const Vec3 *const body_x = body_.x, *const body_v = body_.v, *const body_omega = body_.omega;
+    const bool by_body = body_x != nullptr;
     const std::uint32_t* const body_of = p.body.data();
-    auto spin = [&](std::uint32_t s) __attribute__((always_inline)) {
-      return body_omega != nullptr ? body_omega[body_of[s]] : omega[s];
+    auto motion = [&](std::uint32_t s, const Vec3& xs, Vec3& vs, Vec3& ws) __attribute__((always_inline)) {
+      if (!by_body) {
+        vs = v[s], ws = omega[s];
+        return;
+      }
+      const std::uint32_t k = body_of[s];
+      ws = body_omega[k];
+      vs = body_v[k] + cross(ws, xs - body_x[k]);
     };
     const double *const radius = p.radius.data(), *const mass = p.mass.data(), *const inertia = p.inertia.data();
     const std::int32_t* const material = p.material.data();
@@ -495,7 +508,9 @@ void ForceField::pass_with(const Models<Rolling>& m, int threads, int thread, Pa
                       double dist2, double rsum, double ri, Vec3 vi, Vec3 wi, double mass_i, double inertia_i, int row) {
       batch.dx[b] = d.x, batch.dy[b] = d.y, batch.dz[b] = d.z;
       batch.dist2[b] = dist2, batch.rsum[b] = rsum, batch.ri[b] = ri, batch.rj[b] = radius[j];
-      const Vec3 dv = vi - v[j], wj = spin(j);
+      Vec3 vj, wj;
+      motion(j, x[j], vj, wj);
+      const Vec3 dv = vi - vj;
       batch.dvx[b] = dv.x, batch.dvy[b] = dv.y, batch.dvz[b] = dv.z;
       batch.wix[b] = wi.x, batch.wiy[b] = wi.y, batch.wiz[b] = wi.z;
       batch.wjx[b] = wj.x, batch.wjy[b] = wj.y, batch.wjz[b] = wj.z;
@@ -518,8 +533,11 @@ void ForceField::pass_with(const Models<Rolling>& m, int threads, int thread, Pa
       if (k + kPrefetchEntries >= entries) return;
       const std::uint32_t ahead = partner[k + kPrefetchEntries];
       prefetch_for_read(&x[ahead]), prefetch_for_read(&radius[ahead]);
-      prefetch_for_read(&v[ahead]);
-      if (body_omega != nullptr) prefetch_for_read(&body_of[ahead]); else prefetch_for_read(&omega[ahead]);
+      if (by_body) {
+        prefetch_for_read(&body_of[ahead]);
+      } else {
+        prefetch_for_read(&v[ahead]), prefetch_for_read(&omega[ahead]);
+      }
       prefetch_for_read(&mass[ahead]), prefetch_for_read(&inertia[ahead]), prefetch_for_read(&material[ahead]);
     };
     const WallGeometry::Hint* const hints = hinted_walls_ > 0 ? wall_hints_.data() : nullptr;
@@ -532,9 +550,12 @@ void ForceField::pass_with(const Models<Rolling>& m, int threads, int thread, Pa
     // Inlined as the A/Bs measured it (GCC 12 put it out of line once it requested the row starts).
     auto prefetch_block = [&](std::size_t ahead) __attribute__((always_inline)) {
       const std::size_t lo = ahead * kPassBlock, hi = std::min(n, lo + kPassBlock);
-      prefetch_lines_to_l2(x + lo, x + hi), prefetch_lines_to_l2(v + lo, v + hi);
-      if (body_omega != nullptr) prefetch_lines_to_l2(body_of + lo, body_of + hi);
-      else prefetch_lines_to_l2(omega + lo, omega + hi);
+      prefetch_lines_to_l2(x + lo, x + hi);
+      if (by_body) {
+        prefetch_lines_to_l2(body_of + lo, body_of + hi);
+      } else {
+        prefetch_lines_to_l2(v + lo, v + hi), prefetch_lines_to_l2(omega + lo, omega + hi);
+      }
       prefetch_lines_to_l2(radius + lo, radius + hi), prefetch_lines_to_l2(mass + lo, mass + hi);
       prefetch_lines_to_l2(inertia + lo, inertia + hi), prefetch_lines_to_l2(material + lo, material + hi);
       prefetch_lines_to_l2(force + lo, force + hi), prefetch_lines_to_l2(torque + lo, torque + hi);
@@ -686,7 +707,8 @@ void ForceField::pass_with(const Models<Rolling>& m, int threads, int thread, Pa
         for (std::uint32_t k = start[lo], last = start[hi]; k < last; ++k) {
           if (owner[k] != i) {
             i = owner[k];
-            xi = x[i], vi = v[i], wi = spin(i);
+            xi = x[i];
+            motion(i, xi, vi, wi);
             ri = radius[i], mass_i = mass[i], inertia_i = inertia[i];
             row = material[i] * materials;
           }
@@ -763,7 +785,9 @@ void ForceField::pass_with(const Models<Rolling>& m, int threads, int thread, Pa
           for (std::uint32_t q = 0; q < found; ++q) {
             const std::uint32_t k = listed[q], i = owner[k], j = partner[k];
             const Vec3 d = x[i] - x[j];
-            gather(batch, b, k, i, j, d, norm2(d), radius[i] + radius[j], radius[i], v[i], spin(i), mass[i],
+            Vec3 vi, wi;
+            motion(i, x[i], vi, wi);
+            gather(batch, b, k, i, j, d, norm2(d), radius[i] + radius[j], radius[i], vi, wi, mass[i],
                    inertia[i], material[i] * materials);
             if (++b == PairBatch<Rolling>::kCapacity) flush(b), b = 0;
           }

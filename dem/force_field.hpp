@@ -176,11 +176,17 @@ class ForceField {
                       models_);
   }
   ContactEnergy contact_energy(const Particles& p, const NeighborList& nl, const std::vector<Wall>& walls) const;
-  /// Where the force loop reads sphere s's angular velocity: p.omega[s] (nullptr, the default), or
-  /// body_omega[p.body[s]], its rigid body's. A sphere of a clump turns with its body (omega_s =
-  /// omega_b, the same number), so the drift need not copy it into every sphere (Simulation, which
-  /// sets it before each force evaluation: 24 bytes fewer stored per sphere-step).
-  void read_spin_from_bodies(const Vec3* body_omega) { body_omega_ = body_omega; }
+  /// The rigid bodies' centres, velocities and angular velocities, by body index (p.body).
+  struct BodyMotion {
+    const Vec3 *x = nullptr, *v = nullptr, *omega = nullptr;
+  };
+  /// Where the force loop reads sphere s's velocity and angular velocity: p.v[s] and p.omega[s]
+  /// (motion.x null, the default), or from its rigid body k = p.body[s]: omega_s = omega_k, v_s =
+  /// v_k + omega_k x (x_s - x_k). A sphere of a clump moves with its body, so the drift need not
+  /// copy them into every sphere: 48 of the 72 bytes it stored per sphere-step (Simulation, which
+  /// sets this before each force evaluation). The lever x_s - x_k rounds differently from the
+  /// rotated offset the position was made from (a relative 1e-16 of the velocity).
+  void read_motion_from_bodies(const BodyMotion& motion) { body_ = motion; }
   /// The last compute()'s rings of partner shares: entries per thread (0: none), and how far a pair
   /// may reach (partner - owner, in slots) and keep its share there (share_ring_entries()).
   std::size_t share_ring_size() const { return ring_entries_; }
@@ -262,7 +268,7 @@ class ForceField {
 
   AnyModels models_;
   std::vector<int> wall_material_;
-  const Vec3* body_omega_ = nullptr;  // read_spin_from_bodies
+  BodyMotion body_;  // read_motion_from_bodies
   std::vector<PartnerShare> partner_share_;
   // The rings of partner shares (share_ring_entries()), ring_entries_ per thread, in beds beyond the
   // caches; ring_entries_ 0 when none is used. An entry's share is kept in its thread's ring, at

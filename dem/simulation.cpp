@@ -415,6 +415,8 @@ Simulation::SkinChoice Simulation::choose_skins() const {
   // is lower there than in the world, so that a bed carried by its box lasts a list the longer.
   const int wall = settings_.list_frame == SimulationSettings::ListFrameChoice::world ? -1 : container_wall();
   if (settings_.skin > 0 && wall < 0) return {settings_.skin, settings_.skin, -1};
+  // (The velocities of spheres that follow bodies are made for readers: follow_one.)
+  if (sphere_state_lags_) update_sphere_state();
   // Each sphere's speed, in the world and relative to the container (strays with slack left out:
   // they may outrun the skin anyway, NeighborList::slack2; -1 marks them), and the largest radius
   // present for the default bound.
@@ -600,31 +602,26 @@ inline double moved_since_build(const Particles& p, std::size_t s, const Vec3& x
   const double moved2 = norm2(x - (kInFrame ? shift.carry(at_build) : at_build));
   return s < slack_n ? moved2 - slack[s] : moved2;
 }
-/// Sphere s follows body k: x_s = x_b + R(q_b) offset_s, v_s = v_b + omega_b x (x_s - x_b). Its
-/// omega_s = omega_b is not copied: the force loop reads the body's (ForceField::read_spin_from_bodies;
-/// the copy was 24 of the 72 bytes this stored per sphere-step), and a reader of the spheres gets it
-/// from update_sphere_state. Returns the squared displacement since the last neighbour build in the list's
-/// frame (`shift`: where the build's position is now if fixed in that frame), less the sphere's
-/// slack if kSlack (slack[s], a stray's: NeighborList::slack2). kInFrame false: the world's frame
-/// (`shift` unused), the loop free of the frame's branch (the clump bed's step was 3-5 % slower with
-/// the branch inside it; the callers pick once per loop). Component by component, in and out: a
-/// Vec3 copied whole (it was `omega_s = omega_b`) is one statement with two memory references, which
-/// GCC's vectoriser refuses (follow_span); a Vec3 local stored whole was kept on GCC's stack and copied 16
-/// bytes at a time, and read back, the 16-byte load of two 8-byte stores failed to forward (a third
-/// of the sphere loop's samples, nineteenth session).
+/// Sphere s follows body k: x_s = x_b + R(q_b) offset_s. Its velocity and angular velocity are not
+/// copied: the force loop makes them from the body's (ForceField::read_motion_from_bodies; the
+/// copies were 48 of the 72 bytes this stored per sphere-step), and a reader of the spheres gets them
+/// from update_sphere_state. Returns the squared displacement since the last neighbour build in the
+/// list's frame (`shift`: where the build's position is now if fixed in that frame), less the
+/// sphere's slack if kSlack (slack[s], a stray's: NeighborList::slack2). kInFrame false: the world's
+/// frame (`shift` unused), the loop free of the frame's branch (the clump bed's step was 3-5 % slower
+/// with the branch inside it; the callers pick once per loop). Component by component, in and out:
+/// a Vec3 copied whole (it was `omega_s = omega_b`) is one statement with two memory references,
+/// which GCC's vectoriser refuses (follow_span); a Vec3 local stored whole was kept on GCC's stack
+/// and copied 16 bytes at a time, and read back, the 16-byte load of two 8-byte stores failed to
+/// forward (a third of the sphere loop's samples, nineteenth session).
 template <bool kInFrame, bool kSlack>
 [[gnu::always_inline]] inline double follow_one(std::size_t s, std::size_t k, const Quat* __restrict q,
-                                                const Vec3* __restrict bx, const Vec3* __restrict bv,
-                                                const Vec3* __restrict bw, const Vec3* __restrict offset,
+                                                const Vec3* __restrict bx, const Vec3* __restrict offset,
                                                 const Vec3* __restrict at_build, Vec3* __restrict xs,
-                                                Vec3* __restrict vs, const double* __restrict slack,
-                                                const FrameShift& shift) {
+                                                const double* __restrict slack, const FrameShift& shift) {
   const Vec3 r = rotate(Quat{q[k].w, q[k].x, q[k].y, q[k].z}, Vec3{offset[s].x, offset[s].y, offset[s].z});
   const double x0 = bx[k].x + r.x, x1 = bx[k].y + r.y, x2 = bx[k].z + r.z;
-  const Vec3 w{bw[k].x, bw[k].y, bw[k].z};
-  const Vec3 v = Vec3{bv[k].x, bv[k].y, bv[k].z} + cross(w, r);
   xs[s].x = x0, xs[s].y = x1, xs[s].z = x2;
-  vs[s].x = v.x, vs[s].y = v.y, vs[s].z = v.z;
   const Vec3 then{at_build[s].x, at_build[s].y, at_build[s].z};
   const double moved2 = norm2(Vec3{x0, x1, x2} - (kInFrame ? shift.carry(then) : then));
   if constexpr (kSlack) return moved2 - slack[s];
@@ -674,21 +671,21 @@ constexpr std::size_t kFollowLanes = 8;
 /// slacks' end.
 template <bool kInFrame, bool kSlack>
 [[gnu::noinline]] void follow_span(std::size_t first, std::size_t last, const std::uint32_t* __restrict body,
-                                   const Quat* __restrict q, const Vec3* __restrict bx, const Vec3* __restrict bv,
-                                   const Vec3* __restrict bw, const Vec3* __restrict offset,
-                                   const Vec3* __restrict at_build, Vec3* __restrict xs, Vec3* __restrict vs,
-                                   const double* __restrict slack, const FrameShift& shift, double* __restrict lane) {
+                                   const Quat* __restrict q, const Vec3* __restrict bx,
+                                   const Vec3* __restrict offset, const Vec3* __restrict at_build,
+                                   Vec3* __restrict xs, const double* __restrict slack, const FrameShift& shift,
+                                   double* __restrict lane) {
   std::size_t s = first;
   for (; s + kFollowLanes <= last; s += kFollowLanes) {
     for (std::size_t c = 0; c < kFollowLanes; ++c) {
       const double moved2 =
-          follow_one<kInFrame, kSlack>(s + c, body[s + c], q, bx, bv, bw, offset, at_build, xs, vs, slack, shift);
+          follow_one<kInFrame, kSlack>(s + c, body[s + c], q, bx, offset, at_build, xs, slack, shift);
       lane[c] = std::max(lane[c], moved2);
     }
   }
   for (; s < last; ++s) {
     const double moved2 =
-        follow_one<kInFrame, kSlack>(s, body[s], q, bx, bv, bw, offset, at_build, xs, vs, slack, shift);
+        follow_one<kInFrame, kSlack>(s, body[s], q, bx, offset, at_build, xs, slack, shift);
     lane[0] = std::max(lane[0], moved2);
   }
 }
@@ -696,8 +693,8 @@ template <bool kInFrame, bool kSlack>
 inline void follow_run(Particles& p, const Bodies& b, std::size_t first, std::size_t last, const double* slack,
                        const FrameShift& shift, double (&lane)[kFollowLanes]) {
   if (first >= last) return;
-  follow_span<kInFrame, kSlack>(first, last, p.body.data(), b.q.data(), b.x.data(), b.v.data(), b.omega.data(),
-                                p.offset.data(), p.x_at_build.data(), p.x.data(), p.v.data(), slack, shift, lane);
+  follow_span<kInFrame, kSlack>(first, last, p.body.data(), b.q.data(), b.x.data(), p.offset.data(),
+                                p.x_at_build.data(), p.x.data(), slack, shift, lane);
 }
 /// Spheres [first, last) follow their bodies (follow_one); returns the largest displacement, the
 /// frame's branch taken once.
@@ -858,7 +855,7 @@ void Simulation::sum_bodies(const ForceTeam& team, double half_kick, const After
 void Simulation::compute_forces(double half_kick) {
   // The forces, then the bodies' sums in the same parallel region (ForceField::compute's follow-up).
   BodySums sums(*this, half_kick);
-  read_spins();
+  read_motions();
   diag_ = forces_.compute(particles_, neighbors_, walls_, dt_, &sums);
   // omega = omega(q, L) is not made here: the next drift makes it afresh from L after its half kick,
   // and nothing in between reads it, so it is made only for a reader (update_body_omega). A clump's
@@ -870,16 +867,20 @@ void Simulation::compute_forces(double half_kick) {
   check_health();
 }
 
-void Simulation::read_spins() {
-  // The spheres' omega: their own where they hold their bodies' state, else their bodies', made by
-  // the drift's rotation (or setup's update_bodies) and not changed since: the omega the follow
-  // copied into the spheres until 2026-12-08, the same bits.
+void Simulation::read_motions() {
+  // The spheres' v and omega: their own where they hold their bodies' state, else made from their
+  // bodies' x, v and omega, the omega made by the drift's rotation (or setup's update_bodies) and not
+  // changed since (the follow copied it into the spheres until 2026-12-08).
   assert(spheres_hold_bodies_ || !body_omega_lags_);
-  forces_.read_spin_from_bodies(spheres_hold_bodies_ ? nullptr : bodies_.omega.data());
+  const Bodies& b = bodies_;
+  const ForceField::BodyMotion from_bodies{b.x.data(), b.v.data(), b.omega.data()};
+  forces_.read_motion_from_bodies(spheres_hold_bodies_ ? ForceField::BodyMotion{} : from_bodies);
 }
 
 void Simulation::bodies_summed(bool kicked) {
-  if (kicked) body_omega_lags_ = true;
+  // (The kick leaves the spheres' velocities behind, and omega where the spheres hold it, even if a
+  // reader brought them up to date since the drift: choose_skins.)
+  if (kicked) body_omega_lags_ = true, sphere_state_lags_ = true;
   body_copy_lags_ = spheres_hold_bodies_;
 }
 
@@ -931,7 +932,7 @@ void Simulation::move_spheres_with_bodies() {
     for (std::size_t s = first; s < last; ++s) p.q[s] = bodies_.q[p.body[s]];
   }
   moved2_ = moved2;
-  sphere_state_lags_ = true;  // (their omega is their bodies': follow_one)
+  sphere_state_lags_ = true;  // (their v and omega are made from their bodies': follow_one)
 }
 
 bool Simulation::healthy() const {
@@ -970,6 +971,7 @@ void Simulation::check_health() {
     throw BlowUp(msg.str());
   }
   if (diag_.max_overlap_ratio > settings_.max_overlap_ratio) {
+    if (sphere_state_lags_) update_sphere_state();  // (the speeds named below; follow_one)
     // Find the particle and what it overlaps (error path only, so a serial search is fine).
     std::int64_t worst = -1;
     double worst_ratio = 0;
@@ -1039,14 +1041,15 @@ double Simulation::drift_part(int team, int thread, double dt, std::uint64_t epo
   // The first spheres of this range, which the thread below read as partners in its force loop
   // (slots [sphere_first, reach_before(sphere_first))): their lines, written in the sphere loop
   // below, are requested for writing a line per body in the body loop (dem/boundary_lines.hpp):
-  // x and v, and omega where the spheres hold their bodies' state (else it is not copied: follow_one).
+  // x, and v and omega where the spheres hold their bodies' state (else they are not copied: follow_one).
   BoundaryLines<3> boundary;
   if (thread > 0 && sphere_first < sphere_last && neighbors_.starts().size() == n + 1) {
     // (reach_before(s) is below s when no pair reaches across s.)
     const std::size_t end = std::clamp<std::size_t>(neighbors_.reach_before(sphere_first), sphere_first, sphere_last);
-    const Vec3* const omega = spheres_hold_bodies_ ? &p.omega[sphere_first] : nullptr;
-    boundary = BoundaryLines<3>({&p.x[sphere_first], &p.v[sphere_first], omega},
-                                (end - sphere_first) * sizeof(Vec3));
+    const bool own = spheres_hold_bodies_;
+    const Vec3* const v = own ? &p.v[sphere_first] : nullptr;
+    const Vec3* const omega = own ? &p.omega[sphere_first] : nullptr;
+    boundary = BoundaryLines<3>({&p.x[sphere_first], v, omega}, (end - sphere_first) * sizeof(Vec3));
   }
   // (The list's frame where the spheres will be, at the step's end; the walls move there after the drift.)
   const FrameShift shift = frame_shift_at(time_ + dt);
@@ -1245,7 +1248,7 @@ bool Simulation::drifted(int team) {
   for (Wall& w : walls_) w.move_to(time_);
   if (neighbors_.stale(particles_, moved2_) || skin_check_due()) return false;
   if (!forces_.begins_in_team(particles_, neighbors_, walls_, team)) return false;
-  read_spins();
+  read_motions();
   forces_.begin(particles_, neighbors_, walls_, team);
   return true;
 }

@@ -223,8 +223,8 @@ class Simulation {
   /// After the bodies' sums (with a half kick if `kicked`): what they leave behind (omega behind L,
   /// and where the spheres hold the bodies' state, the bodies' copy behind the spheres).
   void bodies_summed(bool kicked);
-  /// Tell the force loop where the spheres' angular velocities are (ForceField::read_spin_from_bodies).
-  void read_spins();
+  /// Tell the force loop where the spheres' velocities are (ForceField::read_motion_from_bodies).
+  void read_motions();
   /// The bodies' arrays brought up to date for a reader (update_body_copy, update_body_omega).
   void update_bodies() const;
   void update_body_omega() const;
