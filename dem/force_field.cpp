@@ -219,9 +219,9 @@ template <class Rolling>
   // (Not loaded at all where the body gives them: a sphere's own v and omega were then stale lines,
   // two misses in three of this function's samples that were, perf, twenty-eighth session.)
   Vec3 vi, wi;
-  if (body_.x != nullptr) {
+  if (body_motion_.x != nullptr) {
     const std::uint32_t k = p.body[i];
-    wi = body_.omega[k], vi = body_.v[k] + cross(wi, xi - body_.x[k]);
+    wi = body_motion_.omega[k], vi = body_motion_.velocity_at(k, xi);
   } else {
     vi = p.v[i], wi = p.omega[i];
   }
@@ -477,8 +477,8 @@ void ForceField::pass_with(const Models<Rolling>& m, int threads, int thread, Pa
     const Vec3 *const x = p.x.data(), *const v = p.v.data(), *const omega = p.omega.data();
     // A sphere's velocity and angular velocity (at x_s): its own, or from its body's
     // (read_motion_from_bodies).
-    const Vec3 *const body_x = body_.x, *const body_v = body_.v, *const body_omega = body_.omega;
-    const bool by_body = body_x != nullptr;
+    const BodyMotion body = body_motion_;
+    const bool by_body = body.x != nullptr;
     const std::uint32_t* const body_of = p.body.data();
     auto motion = [&](std::uint32_t s, const Vec3& xs, Vec3& vs, Vec3& ws) __attribute__((always_inline)) {
       if (!by_body) {
@@ -486,8 +486,7 @@ void ForceField::pass_with(const Models<Rolling>& m, int threads, int thread, Pa
         return;
       }
       const std::uint32_t k = body_of[s];
-      ws = body_omega[k];
-      vs = body_v[k] + cross(ws, xs - body_x[k]);
+      ws = body.omega[k], vs = body.velocity_at(k, xs);
     };
     const double *const radius = p.radius.data(), *const mass = p.mass.data(), *const inertia = p.inertia.data();
     const std::int32_t* const material = p.material.data();

@@ -179,6 +179,8 @@ class ForceField {
   /// The rigid bodies' centres, velocities and angular velocities, by body index (p.body).
   struct BodyMotion {
     const Vec3 *x = nullptr, *v = nullptr, *omega = nullptr;
+    /// The velocity of body k's point at xs: v_k + omega_k x (xs - x_k).
+    Vec3 velocity_at(std::uint32_t k, const Vec3& xs) const { return v[k] + cross(omega[k], xs - x[k]); }
   };
   /// Where the force loop reads sphere s's velocity and angular velocity: p.v[s] and p.omega[s]
   /// (motion.x null, the default), or from its rigid body k = p.body[s]: omega_s = omega_k, v_s =
@@ -186,7 +188,7 @@ class ForceField {
   /// copy them into every sphere: 48 of the 72 bytes it stored per sphere-step (Simulation, which
   /// sets this before each force evaluation). The lever x_s - x_k rounds differently from the
   /// rotated offset the position was made from (a relative 1e-16 of the velocity).
-  void read_motion_from_bodies(const BodyMotion& motion) { body_ = motion; }
+  void read_motion_from_bodies(const BodyMotion& motion) { body_motion_ = motion; }
   /// The last compute()'s rings of partner shares: entries per thread (0: none), and how far a pair
   /// may reach (partner - owner, in slots) and keep its share there (share_ring_entries()).
   std::size_t share_ring_size() const { return ring_entries_; }
@@ -268,7 +270,7 @@ class ForceField {
 
   AnyModels models_;
   std::vector<int> wall_material_;
-  BodyMotion body_;  // read_motion_from_bodies
+  BodyMotion body_motion_;  // read_motion_from_bodies
   std::vector<PartnerShare> partner_share_;
   // The rings of partner shares (share_ring_entries()), ring_entries_ per thread, in beds beyond the
   // caches; ring_entries_ 0 when none is used. An entry's share is kept in its thread's ring, at
